@@ -1,0 +1,114 @@
+// simulate SCENE [--case NAME]... [--out DIR] [--plots] [--threads N]
+// Runs drop cases of a scene and writes DIR/<case>.csv, DIR/summary.json (and plots).
+#include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <mutex>
+#include <thread>
+
+#include "sim/io/results.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"Drop-test simulator: runs the drop cases of a gear scene"};
+  std::string scenePath, outDir = "out";
+  std::vector<std::string> caseNames;
+  bool plots = false, quiet = false;
+  int threads = 0;
+  app.add_option("scene", scenePath, "scene file (TOML)")->required();
+  app.add_option("--case", caseNames, "case to run (repeatable; default: every case of the scene)");
+  app.add_option("--out", outDir, "output directory (default: out)");
+  app.add_flag("--plots", plots, "draw P_y(t), s(t), h(t) and the work diagram P_y(h) with gnuplot");
+  app.add_option("--threads", threads, "threads for running cases in parallel (default: all cores)");
+  app.add_flag("--quiet", quiet, "no progress and no table on the terminal");
+  CLI11_PARSE(app, argc, argv);
+
+  lg::Scene scene;
+  std::vector<lg::DropCase> cases;
+  try {
+    scene = lg::loadScene(scenePath);
+    if (caseNames.empty()) cases = scene.cases;
+    for (const auto& n : caseNames) {
+      auto it = std::find_if(scene.cases.begin(), scene.cases.end(), [&](const auto& c) { return c.name == n; });
+      if (it == scene.cases.end()) {
+        std::string known;
+        for (const auto& c : scene.cases) known += (known.empty() ? "" : ", ") + c.name;
+        throw lg::InputError(scenePath, 0, "case", "no case named '" + n + "' (cases: " + known + ")");
+      }
+      cases.push_back(*it);
+    }
+    if (cases.empty()) throw lg::InputError(scenePath, 0, "case", "the scene declares no [[case]] to run");
+  } catch (const lg::InputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  }
+  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+
+  // Progress on a terminal for runs longer than a second.
+  const bool tty = !quiet && isatty(STDERR_FILENO);
+  const auto start = std::chrono::steady_clock::now();
+  std::atomic<int> done{0};
+  std::mutex mu;
+  auto lastPrint = start;
+  lg::CaseOptions opt;
+  opt.record = true;
+  opt.stop = [&]() {
+    if (!tty) return false;
+    std::lock_guard<std::mutex> lock(mu);
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - start).count() > 1.0 &&
+        std::chrono::duration<double>(now - lastPrint).count() > 0.25) {
+      lastPrint = now;
+      std::fprintf(stderr, "\r  running %zu case(s): %d done, %.1f s elapsed", cases.size(), done.load(),
+                   std::chrono::duration<double>(now - start).count());
+    }
+    return false;
+  };
+  std::vector<lg::CaseResult> results(cases.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (int i = 0; i < static_cast<int>(cases.size()); ++i) {
+    results[i] = lg::runCase(scene, cases[i], opt);
+    ++done;
+  }
+  if (tty && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > 1.0)
+    std::fprintf(stderr, "\r%60s\r", "");
+
+  std::error_code ec;
+  std::filesystem::create_directories(outDir, ec);
+  if (ec) {
+    std::cerr << "error: cannot create output directory " << outDir << ": " << ec.message() << "\n";
+    return 1;
+  }
+  int failed = 0;
+  for (const auto& r : results) {
+    lg::writeHistoryCsv(scene, r, outDir + "/" + r.metrics.name + ".csv");
+    if (!r.metrics.ok) {
+      ++failed;
+      std::cerr << "case " << r.metrics.name << " failed: " << r.metrics.message << "\n";
+    }
+    if (plots) {
+      std::string why;
+      if (!lg::writePlots(scene, r, outDir + "/" + r.metrics.name + ".csv", outDir, &why))
+        std::cerr << "plots skipped: " << why << "\n";
+    }
+  }
+  lg::writeSummaryJson(scene, results, outDir + "/summary.json");
+  if (!quiet) {
+    std::printf("%-10s %12s %9s %7s %9s %9s %9s %7s %7s %10s %6s %9s\n", "case", "peak P_y[N]", "t_peak[s]", "n_y",
+                "s_max[m]", "h_max[m]", "delta[m]", "eta", "eta_s", "E_err", "steps", "time[ms]");
+    for (const auto& r : results) {
+      const auto& m = r.metrics;
+      std::printf("%-10s %12.1f %9.5f %7.3f %9.5f %9.5f %9.5f %7.4f %7.4f %10.2e %6ld %9.3f%s\n", m.name.c_str(),
+                  m.peak_load_N, m.t_peak_s, m.load_factor, m.stroke_max_m, m.h_max_m, m.tyre_deflection_max_m,
+                  m.efficiency, m.strut_efficiency, m.energy_balance_error, m.steps, 1e3 * m.wall_time_s,
+                  m.ok ? "" : "  FAILED");
+    }
+    std::printf("wrote %s/summary.json and %zu case file(s)%s\n", outDir.c_str(), results.size(),
+                plots ? " with plots" : "");
+  }
+  return failed ? 1 : 0;
+}

@@ -1,0 +1,108 @@
+// The optimiser: NLopt over a Problem, independent of the simulator (an analytic Problem plugs in
+// the same way as a drop-test study, see tests/optim/optimizer_test.cpp).
+//
+// Scaling. NLopt sees u in [0, 1]^n (study.hpp: linear or log map per variable), the objective
+// fhat = s f / fscale (s = -1 when maximising; fscale = |f(initial)|, or 1 if that is 0 or failed)
+// and the constraints ghat_j = g_j / gscale_j <= 0.
+//
+// Constraints. COBYLA, ISRES, AGS and the AUGLAG family get ghat_j as nlopt inequality constraints.
+// Every other algorithm (BOBYQA, SBPLX, NELDERMEAD, PRAXIS, NEWUOA_BOUND, DIRECT, CRS2, ESCH, MLSL,
+// ...) minimises the exact (L1) penalty function
+//     phi(u) = fhat(u) + penalty * sum_j max(0, ghat_j(u)),
+// whose minimiser is the constrained one once penalty exceeds the largest Lagrange multiplier of
+// the scaled problem (default penalty = 100).
+//
+// Failures. An evaluation that fails (ok = false, or a non-finite objective or constraint) is
+// infeasible: fhat = kFailValue and every ghat_j = kFailValue (finite, so NLopt's models survive),
+// and its message is logged. Nothing throws out of the evaluation path.
+//
+// Best design. Feasible (every g_j <= 0, exactly) beats infeasible; among feasible designs the best
+// objective wins, among infeasible ones the smallest sum_j max(0, ghat_j); ties keep the earlier.
+// The best design is tracked here over every evaluation, not taken from NLopt's return value.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "optim/study.hpp"
+
+namespace lg::optim {
+
+constexpr double kFailValue = 1e3;  // [-] scaled objective and constraints of a failed evaluation
+
+// What one evaluation of a design returns (never throws).
+struct Evaluation {
+  bool ok = false;                  // false: the evaluation failed, 'message' says why
+  std::string message;
+  double objective = std::numeric_limits<double>::quiet_NaN();  // physical units
+  std::vector<double> constraints;  // g_j in physical units; feasible when every g_j <= 0
+  std::vector<CaseMetrics> cases;   // per-case detail (simulator problems; empty when cached)
+  double staticStroke = std::numeric_limits<double>::quiet_NaN();  // [m] when computed
+};
+
+// ok, finite and every constraint <= 0.
+bool isFeasible(const Evaluation& e);
+
+struct Problem {
+  std::vector<Variable> variables;           // bounds, initial values, log flags
+  std::vector<std::string> constraintNames;  // one per g_j
+  std::vector<double> constraintScales;      // gscale_j > 0
+  bool maximize = false;
+  double objectiveScale = 0;                 // fscale; 0: |f(initial)| (1 if zero or failed)
+  std::string objectiveName = "objective";
+  // Evaluates a design in physical units; must not throw.
+  std::function<Evaluation(const std::vector<double>& x)> evaluate;
+};
+
+// One finished evaluation, as the history logs it.
+struct EvaluationRecord {
+  int index = 0;               // 0: the initial design; 1..: NLopt's calls in order
+  std::vector<double> x;       // physical units
+  Evaluation evaluation;
+  bool feasible = false;
+  bool cached = false;         // taken from the cache (same bits evaluated before or resumed)
+  double merit = 0;            // [-] what NLopt saw (scaled; penalised where it applies)
+};
+
+// Evaluations known before the run, by the exact bits of x (resume).
+using EvaluationCache = std::map<std::vector<std::uint64_t>, Evaluation>;
+std::vector<std::uint64_t> bitsOf(const std::vector<double>& x);
+
+struct Observer {
+  std::function<void(const EvaluationRecord&)> onEvaluation;  // called in order, after each one
+  std::function<bool()> stopRequested;                        // polled; true: nlopt forced stop
+};
+
+struct OptimizationResult {
+  std::vector<double> x0;          // initial design (physical)
+  Evaluation initial;
+  std::vector<double> x;           // best design (physical)
+  Evaluation best;
+  int bestIndex = 0;
+  bool feasible = false;           // best design feasible
+  int evaluations = 0;             // NLopt calls (index of the last record)
+  int simulations = 0;             // evaluations actually computed (not cached)
+  int nloptCode = 0;               // nlopt::result
+  std::string nloptName;           // e.g. "NLOPT_MAXEVAL_REACHED"
+  std::string reason;              // "converged: xtol_rel reached", "stopped: maxeval reached", ...
+  bool converged = false;
+  double objectiveScale = 1;
+  double wallTime = 0;             // [s]
+  std::vector<EvaluationRecord> history;  // x, objective, feasibility per evaluation (no case detail)
+};
+
+// Validates an algorithm name (and its local optimiser); returns an empty string or the rule broken.
+std::string checkAlgorithm(const std::string& name, const std::string& local);
+
+// Runs NLopt; never throws for evaluation failures or NLopt stops (NLopt errors land in 'reason').
+OptimizationResult runOptimizer(const Problem& p, const AlgorithmSettings& a, const Observer& obs = {},
+                                const EvaluationCache* cache = nullptr);
+
+// "stopped: maxeval reached" etc. for an nlopt::result code.
+std::string describeResult(int code, bool* converged = nullptr);
+
+}  // namespace lg::optim

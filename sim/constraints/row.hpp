@@ -1,0 +1,79 @@
+// One scalar constraint row, as the multiplier solvers see it.
+//
+// For a row k between bodies i and j (j may be the ground):
+//   C_k            the constraint value (= 0 for a bilateral row, >= 0 for a unilateral one)
+//   J_i, J_j       1x6 blocks over (v, omega) of each body, with dC/dt = J_i V_i + J_j V_j
+//   gamma          dJ/dt V, the velocity-product part of d2C/dt2 = J dV/dt + gamma
+// The solvers see rows only; each constraint type writes its own rows.
+#pragma once
+
+#include "sim/core/body.hpp"
+
+namespace lg {
+
+template <class S> struct Row {
+  S C;
+  S gamma;
+  Vec6<S> Ji;
+  Vec6<S> Jj;
+};
+
+// The static part of a row: which bodies it couples and whether it may only push.
+struct RowInfo {
+  int bi = kGround;
+  int bj = kGround;
+  bool unilateral = false;
+  int constraint = -1;  // index of the constraint that owns the row
+};
+
+// Writes one row of the type "point p_i of body i lies in the plane of body j through p_j with the
+// body-fixed unit normal n0_j" (method.md, type 2):
+//   C    = n . (p_i - p_j),                     n = R_j n0_j, d = p_i - p_j, a_i = p_i - r_i, a_j = p_j - r_j
+//   dC/dt = n.(u_i - u_j) + (w_j x n).d,        u = v + w x a (material point velocity)
+//   J_i  = ( n^T,  (a_i x n)^T )
+//   J_j  = (-n^T, -((p_i - r_j) x n)^T )
+//   gamma = 2 (w_j x n).(u_i - u_j) + n.(w_i x (w_i x a_i) - w_j x (w_j x a_j)) + (w_j x (w_j x n)).d
+template <class S>
+inline void writePointOnPlane(const BodyKin<S>& Ki, const Vec3<S>& rho_i, const BodyKin<S>& Kj,
+                              const Vec3<S>& rho_j, const Vec3<S>& n0_j, Row<S>& row) {
+  const Vec3<S> a_i = Ki.R * rho_i;
+  const Vec3<S> a_j = Kj.R * rho_j;
+  const Vec3<S> p_i = Ki.r + a_i;
+  const Vec3<S> p_j = Kj.r + a_j;
+  const Vec3<S> n = Kj.R * n0_j;
+  const Vec3<S> d = p_i - p_j;
+  const Vec3<S> u_i = Ki.pointVelocity(a_i);
+  const Vec3<S> u_j = Kj.pointVelocity(a_j);
+  const Vec3<S> wn = Kj.w.cross(n);
+  row.C = n.dot(d);
+  row.Ji << n, a_i.cross(n);
+  row.Jj << -n, -(p_i - Kj.r).cross(n);
+  row.gamma = S(2) * wn.dot(u_i - u_j) +
+              n.dot(Ki.w.cross(Ki.w.cross(a_i)) - Kj.w.cross(Kj.w.cross(a_j))) +
+              Kj.w.cross(wn).dot(d);
+}
+
+// Writes the three rows of "p_j - p_i = 0" (method.md, type 1):
+//   J_i = (-E3, [a_i]x),  J_j = (E3, -[a_j]x),  gamma = w_j x (w_j x a_j) - w_i x (w_i x a_i)
+template <class S>
+inline void writeCoincidentPoints(const BodyKin<S>& Ki, const Vec3<S>& rho_i, const BodyKin<S>& Kj,
+                                  const Vec3<S>& rho_j, Row<S>* rows) {
+  const Vec3<S> a_i = Ki.R * rho_i;
+  const Vec3<S> a_j = Kj.R * rho_j;
+  const Vec3<S> C = (Kj.r + a_j) - (Ki.r + a_i);
+  const Vec3<S> g = Kj.w.cross(Kj.w.cross(a_j)) - Ki.w.cross(Ki.w.cross(a_i));
+  const Mat3<S> Ai = skew(a_i);
+  const Mat3<S> Aj = skew(a_j);
+  for (int k = 0; k < 3; ++k) {
+    rows[k].C = C[k];
+    rows[k].gamma = g[k];
+    rows[k].Ji.setZero();
+    rows[k].Jj.setZero();
+    rows[k].Ji[k] = S(-1);
+    rows[k].Jj[k] = S(1);
+    rows[k].Ji.template tail<3>() = Ai.row(k).transpose();
+    rows[k].Jj.template tail<3>() = -Aj.row(k).transpose();
+  }
+}
+
+}  // namespace lg

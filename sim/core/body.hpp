@@ -1,0 +1,75 @@
+// Bodies and their kinematics.
+//
+// A body i has mass m_i, principal inertia I0_i = diag(Ixi, Ieta, Izeta) in a frame at its centre of
+// mass, and a pose (r_i, q_i): centre-of-mass position in the world and unit quaternion. Velocities
+// are (v_i, omega_i), both in world coordinates. World inertia I_i = R_i I0_i R_i^T (method.md).
+// Body index -1 is the fixed ground: r = 0, R = E3, v = omega = 0, infinite mass.
+#pragma once
+
+#include <string>
+
+#include "sim/core/math.hpp"
+
+namespace lg {
+
+constexpr int kGround = -1;
+
+template <class S> struct Body {
+  std::string name;
+  S mass;            // [kg]
+  Vec3<S> inertia;   // [kg m^2] principal moments (Ixi, Ieta, Izeta) in the body frame
+
+  template <class T> Body<T> cast() const { return {name, T(mass), castVec<T>(inertia)}; }
+};
+
+// What the stages after "kinematics" read about one body at one instant.
+template <class S> struct BodyKin {
+  Vec3<S> r;        // [m] centre of mass, world
+  Mat3<S> R;        // body-to-world rotation
+  Vec3<S> v;        // [m/s] centre-of-mass velocity, world
+  Vec3<S> w;        // [rad/s] angular velocity, world
+  Mat3<S> Iw;       // [kg m^2] world inertia R I0 R^T
+  Mat3<S> IwInv;    // [1/(kg m^2)]
+  S mass;           // [kg]
+  S invMass;        // [1/kg]
+
+  // World position of a body-fixed point rho (body coordinates), its lever arm and velocity.
+  Vec3<S> point(const Vec3<S>& rho) const { return r + R * rho; }
+  Vec3<S> pointVelocity(const Vec3<S>& arm) const { return v + w.cross(arm); }
+
+  static BodyKin ground() {
+    BodyKin k;
+    k.r.setZero();
+    k.R.setIdentity();
+    k.v.setZero();
+    k.w.setZero();
+    k.Iw.setZero();
+    k.IwInv.setZero();
+    k.mass = S(0);
+    k.invMass = S(0);
+    return k;
+  }
+};
+
+// Kinematics of all bodies, with index -1 (kGround) mapping to the ground.
+template <class S> struct Kins {
+  const BodyKin<S>* k;  // n bodies followed by the ground
+  int n;
+  const BodyKin<S>& operator[](int b) const { return b < 0 ? k[n] : k[b]; }
+};
+
+// Resultant force and moment on each body (world), accumulated by the force elements.
+template <class S> struct Wrenches {
+  Vec6<S>* w;  // (f, tau) per body
+  // Adds a force f applied at the world lever arm 'arm' from the centre of mass of body b.
+  void addAt(int b, const Vec3<S>& arm, const Vec3<S>& f) const {
+    if (b < 0) return;
+    w[b].template head<3>() += f;
+    w[b].template tail<3>() += arm.cross(f);
+  }
+  void addForce(int b, const Vec3<S>& f) const {
+    if (b >= 0) w[b].template head<3>() += f;
+  }
+};
+
+}  // namespace lg

@@ -1,0 +1,106 @@
+// Model<S>: what the scene declares, built once by the parser and never changed by a run.
+// The engine's free functions take (model, state, work) like MuJoCo's mj_step(m, d).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "sim/constraints/constraint.hpp"
+#include "sim/forces/force_element.hpp"
+
+namespace lg {
+
+enum class MultiplierSolver { Direct, GaussSeidel };
+enum class IntegratorKind { SemiImplicitEuler, RK4, DormandPrince };
+enum class Stabilization { Projection, Baumgarte, None };
+
+struct Settings {
+  MultiplierSolver solver = MultiplierSolver::Direct;
+  IntegratorKind integrator = IntegratorKind::DormandPrince;
+  Stabilization stabilization = Stabilization::Projection;
+  double rtol = 1e-6;                 // [-] relative tolerance (adaptive)
+  double atol = 1e-8;                 // [m, m/s, rad/s] absolute tolerance (adaptive)
+  double step = 1e-4;                 // [s] fixed step; first trial step of the adaptive pair
+  double maxStep = 1e-2;              // [s] largest adaptive step
+  long maxSteps = 5'000'000;          // a run stops with a failure status beyond this
+  double projectionTolerance = 1e-9;  // [m] project positions when |C| exceeds this (and J V likewise, [m/s])
+  double baumgarteAlpha = 10.0;       // [1/s] 2 alpha dC/dt
+  double baumgarteBeta = 10.0;        // [1/s] beta^2 C
+  int gaussSeidelIterations = 500;    // Gauss-Seidel sweeps at most
+  double gaussSeidelTolerance = 1e-10;  // [-] relative residual of the multipliers' equations
+  double contactTolerance = 1e-7;     // [m] a stop within this is touching
+  double eventTolerance = 1e-12;      // [s] width of the bracket of a located event
+  bool profile = false;               // time each stage of the step
+};
+
+template <class S> struct Model {
+  std::vector<Body<S>> bodies;
+  std::vector<Constraint<S>> constraints;
+  std::vector<ForceElement<S>> forces;
+  Settings settings;
+
+  // Derived once by finalize(): the row table and the sizes of the state.
+  std::vector<RowInfo> rowInfo;   // one per scalar constraint row
+  std::vector<int> rowOffset;     // first row of each constraint
+  std::vector<int> dissipationOffset, eventOffset, outputOffset;  // per force element
+  int nRows = 0, nDissipation = 0, nForceEvents = 0, nOutputs = 0;
+  std::vector<std::string> outputNames;  // "<element>.<channel>"
+
+  int nBodies() const { return static_cast<int>(bodies.size()); }
+  int nx() const { return 7 * nBodies(); }
+  int nv() const { return 6 * nBodies(); }
+  int ny() const { return nx() + nv() + nDissipation; }
+
+  void finalize() {
+    rowInfo.clear();
+    rowOffset.clear();
+    for (int c = 0; c < static_cast<int>(constraints.size()); ++c) {
+      rowOffset.push_back(static_cast<int>(rowInfo.size()));
+      for (int k = 0; k < constraints[c].rows(); ++k)
+        rowInfo.push_back({constraints[c].bodyI(), constraints[c].bodyJ(), constraints[c].unilateral(), c});
+    }
+    nRows = static_cast<int>(rowInfo.size());
+    dissipationOffset.clear();
+    eventOffset.clear();
+    outputOffset.clear();
+    outputNames.clear();
+    nDissipation = nForceEvents = nOutputs = 0;
+    for (const auto& f : forces) {
+      dissipationOffset.push_back(nDissipation);
+      eventOffset.push_back(nForceEvents);
+      outputOffset.push_back(nOutputs);
+      nDissipation += f.dissipationChannels();
+      nForceEvents += f.eventCount();
+      for (const auto& n : f.outputNames()) outputNames.push_back(f.name + "." + n);
+      nOutputs += static_cast<int>(f.outputNames().size());
+    }
+  }
+
+  template <class T> Model<T> cast() const {
+    Model<T> m;
+    for (const auto& b : bodies) m.bodies.push_back(b.template cast<T>());
+    for (const auto& c : constraints) m.constraints.push_back(c.template cast<T>());
+    for (const auto& f : forces) m.forces.push_back(f.template cast<T>());
+    m.settings = settings;
+    m.finalize();
+    return m;
+  }
+
+  int bodyIndex(const std::string& name) const {
+    for (int b = 0; b < nBodies(); ++b)
+      if (bodies[b].name == name) return b;
+    return name == "ground" ? kGround : -2;
+  }
+  int forceIndex(const std::string& name) const {
+    for (int f = 0; f < static_cast<int>(forces.size()); ++f)
+      if (forces[f].name == name) return f;
+    return -1;
+  }
+  int constraintIndex(const std::string& name) const {
+    for (int c = 0; c < static_cast<int>(constraints.size()); ++c)
+      if (constraints[c].name == name) return c;
+    return -1;
+  }
+};
+
+}  // namespace lg

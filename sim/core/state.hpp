@@ -1,0 +1,118 @@
+// State<S>: what changes during a run. Workspace<S>: every buffer the step needs, sized once.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <vector>
+
+#include "sim/constraints/row.hpp"
+#include "sim/core/model.hpp"
+
+namespace lg {
+
+// y = [ x (per body: r (3), q (4)) ; V (per body: v (3), omega (3)) ; z (dissipated energy per channel) ]
+template <class S> struct State {
+  S t = S(0);                // [s]
+  VecX<S> y;                 // see above; r [m], q [-], v [m/s], omega [rad/s], z [J]
+  VecX<S> lambda;            // multipliers of every row (last solve; warm start of Gauss-Seidel)
+  std::vector<char> active;  // per row: 1 if it is enforced (bilateral rows always; stops in contact)
+  S impactLoss = S(0);       // [J] kinetic energy removed by plastic impacts
+
+  explicit State(const Model<S>& m = Model<S>())
+      : y(VecX<S>::Zero(m.ny())), lambda(VecX<S>::Zero(m.nRows)), active(m.nRows, 1) {
+    for (int b = 0; b < m.nBodies(); ++b) y[7 * b + 3] = S(1);
+    for (int k = 0; k < m.nRows; ++k) active[k] = m.rowInfo[k].unilateral ? 0 : 1;
+  }
+
+  // Accessors for body b of a model with N bodies.
+  static Eigen::Index rIndex(int b) { return 7 * b; }
+  static Eigen::Index qIndex(int b) { return 7 * b + 3; }
+  static Eigen::Index vIndex(int N, int b) { return 7 * N + 6 * b; }
+  static Eigen::Index wIndex(int N, int b) { return 7 * N + 6 * b + 3; }
+};
+
+enum Stage { kKinematics, kForces, kRows, kMultipliers, kIntegrate, kStabilise, kEvents, kStageCount };
+inline const char* stageName(int s) {
+  static const char* names[] = {"kinematics", "forces", "constraint rows", "multipliers", "integrate", "stabilise",
+                                "events"};
+  return names[s];
+}
+
+struct StageTimer {
+  std::array<double, kStageCount> seconds{};
+  std::array<long, kStageCount> calls{};
+};
+
+// What the last multiplier solve reports.
+struct SolveReport {
+  int iterations = 0;       // Gauss-Seidel sweeps (0 for the direct solve)
+  double residual = 0.0;    // largest |A lambda - b| after the solve
+  bool ok = true;
+};
+
+template <class S> struct Workspace {
+  std::vector<BodyKin<S>> kin;       // N bodies + ground
+  std::vector<Vec6<S>> wrench;       // (f, tau - w x I w) per body
+  std::vector<Vec6<S>> aFree;        // M^-1 (f, tau) per body
+  std::vector<Row<S>> rows;          // every row at the current configuration
+  std::vector<Vec6<S>> Wi, Wj;       // M^-1 J^T per row, body i and body j parts
+  std::vector<int> list;             // the rows in the current solve
+  MatX<S> A;                         // J M^-1 J^T over 'list'
+  VecX<S> b, lam, work;              // right-hand side, multipliers, scratch
+  VecX<S> dissipation;               // dissipation rate per channel [W]
+  VecX<S> forceEvents;               // force-element event functions
+  VecX<S> outputs;                   // named outputs of the force elements
+  VecX<S> ydot;                      // derivative of y
+  std::vector<VecX<S>> stages;       // integrator stages k1..k7
+  VecX<S> y0, y1, yerr, ytmp;        // integrator scratch
+  VecX<S> g0, g1, g2, gtmp;          // event functions at step start / end / trials
+  VecX<S> fTmp, lamTmp;              // scratch for event location
+  std::vector<char> candidate;       // per row: touching stop considered by a contact solve
+  SolveReport report;
+  StageTimer timer;
+  long rhsEvaluations = 0;
+
+  explicit Workspace(const Model<S>& m) {
+    const int N = m.nBodies(), R = m.nRows;
+    kin.assign(N + 1, BodyKin<S>::ground());
+    wrench.assign(N, Vec6<S>::Zero());
+    aFree.assign(N, Vec6<S>::Zero());
+    rows.assign(R, Row<S>{S(0), S(0), Vec6<S>::Zero(), Vec6<S>::Zero()});
+    Wi.assign(R, Vec6<S>::Zero());
+    Wj.assign(R, Vec6<S>::Zero());
+    list.reserve(R);
+    A = MatX<S>::Zero(R, R);
+    b = lam = work = VecX<S>::Zero(R);
+    dissipation = VecX<S>::Zero(m.nDissipation);
+    forceEvents = VecX<S>::Zero(m.nForceEvents);
+    outputs = VecX<S>::Zero(m.nOutputs);
+    ydot = y0 = y1 = yerr = ytmp = VecX<S>::Zero(m.ny());
+    stages.assign(7, VecX<S>::Zero(m.ny()));
+    g0 = g1 = g2 = gtmp = VecX<S>::Zero(R + m.nForceEvents);
+    fTmp = VecX<S>::Zero(m.ny());
+    lamTmp = VecX<S>::Zero(R);
+    candidate.assign(R, 0);
+  }
+  Kins<S> kins() const { return {kin.data(), static_cast<int>(kin.size()) - 1}; }
+};
+
+// Times a stage when the model asks for profiling; costs one branch otherwise.
+class ScopedStage {
+ public:
+  ScopedStage(StageTimer& t, Stage s, bool on) : t_(t), s_(s), on_(on) {
+    if (on_) start_ = std::chrono::steady_clock::now();
+  }
+  ~ScopedStage() {
+    if (!on_) return;
+    t_.seconds[s_] += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    ++t_.calls[s_];
+  }
+
+ private:
+  StageTimer& t_;
+  Stage s_;
+  bool on_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace lg

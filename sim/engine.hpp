@@ -1,0 +1,311 @@
+// The engine: the named stages of one evaluation of the equations of motion (method.md),
+//
+//   M dV/dt = F + J^T lambda,     J dV/dt = -dJ/dt V  (- Baumgarte terms)    for every enforced row,
+//
+// and the operations around it: contact-mode resolution (which stops are in contact), plastic impacts
+// and projection onto the constraint manifold. Free functions f(model, state/y, work), no allocation.
+#pragma once
+
+#include <cmath>
+
+#include "sim/core/state.hpp"
+#include "sim/solvers/multipliers.hpp"
+
+namespace lg {
+
+// ---- stage: kinematics ---------------------------------------------------------------------------
+template <class S> void kinematics(const Model<S>& m, const VecX<S>& y, Workspace<S>& w) {
+  ScopedStage timer(w.timer, kKinematics, m.settings.profile);
+  const int N = m.nBodies();
+  for (int b = 0; b < N; ++b) {
+    BodyKin<S>& K = w.kin[b];
+    const Body<S>& B = m.bodies[b];
+    K.r = y.template segment<3>(7 * b);
+    const Vec4<S> q = y.template segment<4>(7 * b + 3);
+    K.R = rotation<S>(q);
+    K.v = y.template segment<3>(7 * N + 6 * b);
+    K.w = y.template segment<3>(7 * N + 6 * b + 3);
+    K.Iw = K.R * B.inertia.asDiagonal() * K.R.transpose();
+    K.IwInv = K.R * B.inertia.cwiseInverse().asDiagonal() * K.R.transpose();
+    K.mass = B.mass;
+    K.invMass = S(1) / B.mass;
+  }
+}
+
+// ---- stage: forces -------------------------------------------------------------------------------
+// wrench_b = (f_b, tau_b - w_b x I_b w_b); dissipation rates; force-element event functions.
+template <class S> void forces(const Model<S>& m, Workspace<S>& w) {
+  ScopedStage timer(w.timer, kForces, m.settings.profile);
+  const int N = m.nBodies();
+  for (int b = 0; b < N; ++b) {
+    w.wrench[b].template head<3>().setZero();
+    w.wrench[b].template tail<3>() = -w.kin[b].w.cross(w.kin[b].Iw * w.kin[b].w);
+  }
+  const Kins<S> K = w.kins();
+  const Wrenches<S> W{w.wrench.data()};
+  for (size_t f = 0; f < m.forces.size(); ++f) {
+    S* diss = w.dissipation.data() + m.dissipationOffset[f];
+    S* ev = w.forceEvents.data() + m.eventOffset[f];
+    std::visit(
+        [&](const auto& e) {
+          e.apply(K, W, diss);
+          e.events(K, ev);
+        },
+        m.forces[f].type);
+  }
+  for (int b = 0; b < N; ++b) {
+    w.aFree[b].template head<3>() = w.kin[b].invMass * w.wrench[b].template head<3>();
+    w.aFree[b].template tail<3>() = w.kin[b].IwInv * w.wrench[b].template tail<3>();
+  }
+}
+
+// ---- stage: constraint rows ----------------------------------------------------------------------
+template <class S> void constraintRows(const Model<S>& m, Workspace<S>& w) {
+  ScopedStage timer(w.timer, kRows, m.settings.profile);
+  const Kins<S> K = w.kins();
+  for (size_t c = 0; c < m.constraints.size(); ++c) {
+    Row<S>* rows = w.rows.data() + m.rowOffset[c];
+    std::visit([&](const auto& con) { con.write(K[con.bi], K[con.bj], rows); }, m.constraints[c].type);
+  }
+}
+
+// J_k V for row k.
+template <class S> S rowVelocity(const Model<S>& m, const Workspace<S>& w, int k) {
+  const RowInfo& ri = m.rowInfo[k];
+  S s(0);
+  if (ri.bi >= 0) s += w.rows[k].Ji.template head<3>().dot(w.kin[ri.bi].v) + w.rows[k].Ji.template tail<3>().dot(w.kin[ri.bi].w);
+  if (ri.bj >= 0) s += w.rows[k].Jj.template head<3>().dot(w.kin[ri.bj].v) + w.rows[k].Jj.template tail<3>().dot(w.kin[ri.bj].w);
+  return s;
+}
+// J_k a for a per-body 6-vector field a.
+template <class S> S rowDot(const Model<S>& m, const Workspace<S>& w, int k, const std::vector<Vec6<S>>& a) {
+  const RowInfo& ri = m.rowInfo[k];
+  S s(0);
+  if (ri.bi >= 0) s += w.rows[k].Ji.dot(a[ri.bi]);
+  if (ri.bj >= 0) s += w.rows[k].Jj.dot(a[ri.bj]);
+  return s;
+}
+
+template <class S> void listActiveRows(const Model<S>& m, const std::vector<char>& active, Workspace<S>& w) {
+  w.list.clear();
+  for (int k = 0; k < m.nRows; ++k)
+    if (active[k]) w.list.push_back(k);
+}
+
+// ---- stage: multipliers --------------------------------------------------------------------------
+// lambda for the rows enforced in this mode: J M^-1 J^T lambda = -gamma - J a_free (- Baumgarte).
+template <class S> bool multipliers(const Model<S>& m, const std::vector<char>& active, VecX<S>& lambdaAll,
+                                    Workspace<S>& w) {
+  ScopedStage timer(w.timer, kMultipliers, m.settings.profile);
+  listActiveRows(m, active, w);
+  computeW(m, w);
+  assembleA(m, w);
+  const bool baumgarte = m.settings.stabilization == Stabilization::Baumgarte;
+  const S alpha2(2 * m.settings.baumgarteAlpha), beta2(m.settings.baumgarteBeta * m.settings.baumgarteBeta);
+  for (size_t a = 0; a < w.list.size(); ++a) {
+    const int k = w.list[a];
+    w.b[a] = -w.rows[k].gamma - rowDot(m, w, k, w.aFree);
+    if (baumgarte) w.b[a] -= alpha2 * rowVelocity(m, w, k) + beta2 * w.rows[k].C;
+    w.lam[a] = lambdaAll[k];  // warm start
+  }
+  const bool ok = solveEquality(m, w, false);
+  for (int k = 0; k < m.nRows; ++k) lambdaAll[k] = S(0);
+  for (size_t a = 0; a < w.list.size(); ++a) lambdaAll[w.list[a]] = w.lam[a];
+  return ok;
+}
+
+// ---- the right-hand side: dy/dt ------------------------------------------------------------------
+// Runs kinematics, forces, rows, multipliers; writes ydot (x rates, accelerations, dissipation rates).
+template <class S> bool evaluate(const Model<S>& m, const VecX<S>& y, const std::vector<char>& active,
+                                 VecX<S>& lambda, Workspace<S>& w, VecX<S>& ydot) {
+  ++w.rhsEvaluations;
+  kinematics(m, y, w);
+  forces(m, w);
+  constraintRows(m, w);
+  const bool ok = multipliers(m, active, lambda, w);
+  const int N = m.nBodies();
+  for (int b = 0; b < N; ++b) {
+    Vec6<S> a = w.aFree[b];
+    ydot.template segment<3>(7 * b) = w.kin[b].v;
+    ydot.template segment<4>(7 * b + 3) = quaternionRate<S>(y.template segment<4>(7 * b + 3), w.kin[b].w);
+    ydot.template segment<6>(7 * N + 6 * b) = a;
+  }
+  for (size_t a = 0; a < w.list.size(); ++a) {
+    const int k = w.list[a];
+    const RowInfo& ri = m.rowInfo[k];
+    if (ri.bi >= 0) ydot.template segment<6>(7 * N + 6 * ri.bi) += w.Wi[k] * w.lam[a];
+    if (ri.bj >= 0) ydot.template segment<6>(7 * N + 6 * ri.bj) += w.Wj[k] * w.lam[a];
+  }
+  ydot.tail(m.nDissipation) = w.dissipation;
+  return ok;
+}
+
+// ---- energy --------------------------------------------------------------------------------------
+template <class S> struct EnergyReport {
+  S kinetic = S(0);     // [J]
+  S stored = S(0);      // [J] potential of gravity and constant forces, gas, tyre, springs
+  S dissipated = S(0);  // [J] orifices, friction, dampers, plastic impacts
+  S total() const { return kinetic + stored + dissipated; }
+};
+// Kinematics must be current (kinematics(m, y, w) for state.y).
+template <class S> EnergyReport<S> energy(const Model<S>& m, const State<S>& s, const Workspace<S>& w) {
+  EnergyReport<S> e;
+  for (int b = 0; b < m.nBodies(); ++b) {
+    const BodyKin<S>& K = w.kin[b];
+    e.kinetic += S(0.5) * K.mass * K.v.squaredNorm() + S(0.5) * K.w.dot(K.Iw * K.w);
+  }
+  const Kins<S> K = w.kins();
+  for (const auto& f : m.forces) e.stored += std::visit([&](const auto& el) { return el.stored(K); }, f.type);
+  for (int c = 0; c < m.nDissipation; ++c) e.dissipated += s.y[m.nx() + m.nv() + c];
+  e.dissipated += s.impactLoss;
+  return e;
+}
+
+// ---- applying a correction M^-1 J^T mu ------------------------------------------------------------
+// to positions (as a displacement (dr, dtheta) per body) or to velocities.
+template <class S> void applyCorrection(const Model<S>& m, Workspace<S>& w, VecX<S>& y, bool toPositions) {
+  const int N = m.nBodies();
+  for (auto& a : w.aFree) a.setZero();  // reuse as the per-body correction
+  for (size_t a = 0; a < w.list.size(); ++a) {
+    const int k = w.list[a];
+    const RowInfo& ri = m.rowInfo[k];
+    if (ri.bi >= 0) w.aFree[ri.bi] += w.Wi[k] * w.lam[a];
+    if (ri.bj >= 0) w.aFree[ri.bj] += w.Wj[k] * w.lam[a];
+  }
+  for (int b = 0; b < N; ++b) {
+    if (toPositions) {
+      y.template segment<3>(7 * b) += w.aFree[b].template head<3>();
+      const Vec4<S> q = y.template segment<4>(7 * b + 3);
+      y.template segment<4>(7 * b + 3) = rotateQuaternion<S>(q, w.aFree[b].template tail<3>());
+    } else {
+      y.template segment<6>(7 * N + 6 * b) += w.aFree[b];
+    }
+  }
+}
+
+// Keeps every quaternion of unit length.
+template <class S> void normalizeQuaternions(const Model<S>& m, VecX<S>& y) {
+  for (int b = 0; b < m.nBodies(); ++b) {
+    const Vec4<S> q = y.template segment<4>(7 * b + 3);
+    y.template segment<4>(7 * b + 3) = q / q.norm();
+  }
+}
+
+// Largest |C| and |J V| over the enforced rows (rows must be current).
+template <class S> void violation(const Model<S>& m, const std::vector<char>& active, const Workspace<S>& w,
+                                  double& position, double& velocity) {
+  position = velocity = 0;
+  for (int k = 0; k < m.nRows; ++k) {
+    if (!active[k]) continue;
+    position = std::max(position, std::abs(value(w.rows[k].C)));
+    velocity = std::max(velocity, std::abs(value(rowVelocity(m, w, k))));
+  }
+}
+
+// ---- stage: stabilise ----------------------------------------------------------------------------
+// Projection onto the constraint manifold, mass-weighted (the smallest correction in the kinetic-energy
+// metric): positions by Gauss-Newton, x += M^-1 J^T mu with J M^-1 J^T mu = -C, then velocities,
+// V += M^-1 J^T mu with J M^-1 J^T mu = -J V. Only the enforced rows take part.
+template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w) {
+  ScopedStage timer(w.timer, kStabilise, m.settings.profile);
+  normalizeQuaternions(m, s.y);
+  const double tol = m.settings.projectionTolerance;
+  for (int it = 0; it < 8; ++it) {
+    kinematics(m, s.y, w);
+    constraintRows(m, w);
+    double pos, vel;
+    violation(m, s.active, w, pos, vel);
+    if (pos <= 0.01 * tol) break;
+    listActiveRows(m, s.active, w);
+    computeW(m, w);
+    assembleA(m, w);
+    for (size_t a = 0; a < w.list.size(); ++a) w.b[a] = w.lam[a] = -w.rows[w.list[a]].C;
+    if (!ldltFactor(w.A, static_cast<int>(w.list.size()))) return false;
+    ldltSolve(w.A, static_cast<int>(w.list.size()), w.lam);
+    applyCorrection(m, w, s.y, true);
+  }
+  kinematics(m, s.y, w);
+  constraintRows(m, w);
+  listActiveRows(m, s.active, w);
+  computeW(m, w);
+  assembleA(m, w);
+  for (size_t a = 0; a < w.list.size(); ++a) w.lam[a] = -rowVelocity(m, w, w.list[a]);
+  if (!ldltFactor(w.A, static_cast<int>(w.list.size()))) return false;
+  ldltSolve(w.A, static_cast<int>(w.list.size()), w.lam);
+  applyCorrection(m, w, s.y, false);
+  kinematics(m, s.y, w);
+  return true;
+}
+
+// ---- stage: events (contact modes) ---------------------------------------------------------------
+// Which stops are enforced. Touching stops (|C| <= contactTolerance, or C < 0) are candidates. Those
+// approaching (J V < 0) first receive a plastic impact: the impulse P solves the velocity-level mixed
+// LCP  J M^-1 J^T P = -J V  (bilateral rows: equality; stops: P >= 0, J V+ >= 0, complementary), and
+// the kinetic energy it removes is booked as dissipated. Then the acceleration-level LCP decides
+// which candidates stay enforced (lambda > 0) and which separate.
+// Returns the number of stops whose mode changed, or -1 on a solver failure.
+template <class S> int resolveContacts(const Model<S>& m, State<S>& s, Workspace<S>& w) {
+  ScopedStage timer(w.timer, kEvents, m.settings.profile);
+  kinematics(m, s.y, w);
+  forces(m, w);
+  constraintRows(m, w);
+  const double ctol = m.settings.contactTolerance;
+  bool anyCandidate = false, approaching = false;
+  for (int k = 0; k < m.nRows; ++k) {
+    w.candidate[k] = 0;
+    if (!m.rowInfo[k].unilateral) continue;
+    // C is in the stop's own units (m^2 for a distance stop): compare a length.
+    const double C = value(w.rows[k].C);
+    const double scale = std::max(1e-12, std::sqrt(std::abs(value(w.rows[k].Ji.template head<3>().squaredNorm()))));
+    if (C / scale <= ctol || s.active[k]) {
+      w.candidate[k] = 1;
+      anyCandidate = true;
+      if (value(rowVelocity(m, w, k)) < -1e-12) approaching = true;
+    }
+  }
+  if (!anyCandidate) {
+    int changed = 0;
+    for (int k = 0; k < m.nRows; ++k)
+      if (m.rowInfo[k].unilateral && s.active[k]) { s.active[k] = 0; ++changed; }
+    return changed;
+  }
+  auto buildList = [&]() {
+    w.list.clear();
+    for (int k = 0; k < m.nRows; ++k)
+      if (!m.rowInfo[k].unilateral || w.candidate[k]) w.list.push_back(k);
+    computeW(m, w);
+    assembleA(m, w);
+  };
+  if (approaching) {  // plastic impact
+    EnergyReport<S> before = energy(m, s, w);
+    buildList();
+    for (size_t a = 0; a < w.list.size(); ++a) w.b[a] = -rowVelocity(m, w, w.list[a]);
+    if (!solveLcp(m, w)) return -1;
+    applyCorrection(m, w, s.y, false);
+    kinematics(m, s.y, w);
+    forces(m, w);
+    constraintRows(m, w);
+    EnergyReport<S> after = energy(m, s, w);
+    s.impactLoss += before.kinetic - after.kinetic;
+  }
+  buildList();
+  for (size_t a = 0; a < w.list.size(); ++a) {
+    const int k = w.list[a];
+    w.b[a] = -w.rows[k].gamma - rowDot(m, w, k, w.aFree);
+  }
+  if (!solveLcp(m, w)) return -1;
+  int changed = 0;
+  for (int k = 0; k < m.nRows; ++k)
+    if (m.rowInfo[k].unilateral && !w.candidate[k] && s.active[k]) { s.active[k] = 0; ++changed; }
+  for (size_t a = 0; a < w.list.size(); ++a) {
+    const int k = w.list[a];
+    if (!m.rowInfo[k].unilateral) continue;
+    const char on = value(w.lam[a]) > 0 ? 1 : 0;
+    if (on != s.active[k]) ++changed;
+    s.active[k] = on;
+    s.lambda[k] = w.lam[a];
+  }
+  return changed;
+}
+
+}  // namespace lg

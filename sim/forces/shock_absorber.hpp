@@ -1,0 +1,117 @@
+// Oleo-pneumatic shock absorber (three chambers), acting along the line between a point B of the rod
+// (body i) and a point C of the cylinder (body j) (method.md):
+//
+//   s     = L0 - |B - C|              stroke, positive in compression      [m]
+//   sdot  = -e . (u_B - u_C),  e = (B - C)/|B - C|                          [m/s]
+//   p_1   = p_01 / (1 - s F / Omega_0)^n                                    [Pa]
+//   P_a   = (p_1 - p_atm) F                          gas (p_atm = 0 as in the article)
+//         + mu p_1 F sgn_eps(sdot)                   Coulomb friction, sgn regularised:
+//                                                     sgn_eps(v) = v / sqrt(v^2 + eps^2)
+//         + xi_1 rho F^3   sdot|sdot| / (2 f_1^2)    main orifice (f_1 constant or f_1(s) table)
+//         + xi_2 rho F_2^3 sdot|sdot| / (2 f_2^2)    rebound orifice (only if the scene declares f_2)
+//   F = pi D^2/4,  F_2 = pi (D_2^2 - D^2)/4
+// P_a > 0 pushes B away from C: +P_a e on the rod at B, -P_a e on the cylinder at C.
+//
+// Energy: stored (gas)  p_01 Omega_0/(n-1) ((1 - s F/Omega_0)^(1-n) - 1) - p_atm F s
+//         dissipated    integral of (friction + orifice forces) * sdot dt  (>= 0)
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sim/core/body.hpp"
+#include "sim/forces/table1d.hpp"
+
+namespace lg {
+
+template <class S> struct ShockAbsorber {
+  static constexpr int kDissipation = 1;
+  static constexpr int kEvents = 0;
+  int bi = kGround;  // rod
+  int bj = kGround;  // cylinder
+  Vec3<S> rho_i;     // [m] B in the rod frame
+  Vec3<S> rho_j;     // [m] C in the cylinder frame
+  S L0;              // [m] extended length |B - C| at s = 0
+  S D;               // [m] rod (plunger) diameter
+  S D2;              // [m] bore of the annular chamber 3
+  S p01;             // [Pa] initial gas pressure
+  S Omega0;          // [m^3] initial gas volume
+  S n;               // [-] polytropic exponent
+  S rho;             // [kg/m^3] fluid density
+  S f1;              // [m^2] main orifice area (when no table)
+  S f2;              // [m^2] rebound orifice area (0: no rebound orifice term)
+  S xi1, xi2;        // [-] loss coefficients
+  S mu;              // [-] friction coefficient
+  S pAtm;            // [Pa] atmospheric pressure (0: off)
+  double frictionVelocity = 1e-3;      // [m/s] eps of sgn_eps
+  std::shared_ptr<const Table1D> f1Table;  // [m -> m^2] metering pin f_1(s), or null
+
+  struct Eval {
+    Vec3<S> a_i, a_j, e;
+    S s, sdot, p1, gas, friction, orifice1, orifice2;
+    S force() const { return gas + friction + orifice1 + orifice2; }
+  };
+
+  S area() const { return S(M_PI) * D * D / S(4); }
+  S annularArea() const { return S(M_PI) * (D2 * D2 - D * D) / S(4); }
+  S mainOrifice(const S& s) const { return f1Table ? (*f1Table)(s) : f1; }
+
+  Eval eval(const Kins<S>& K) const {
+    Eval r;
+    r.a_i = K[bi].R * rho_i;
+    r.a_j = K[bj].R * rho_j;
+    const Vec3<S> d = (K[bi].r + r.a_i) - (K[bj].r + r.a_j);
+    const S L = d.norm();
+    r.e = d / L;
+    r.s = L0 - L;
+    r.sdot = -r.e.dot(K[bi].pointVelocity(r.a_i) - K[bj].pointVelocity(r.a_j));
+    const S F = area();
+    r.p1 = p01 / pow(S(1) - r.s * F / Omega0, n);
+    r.gas = (r.p1 - pAtm) * F;
+    r.friction = mu * r.p1 * F * smoothSign(r.sdot, frictionVelocity);
+    const S fa = mainOrifice(r.s);
+    r.orifice1 = xi1 * rho * F * F * F * signedSquare(r.sdot) / (S(2) * fa * fa);
+    r.orifice2 = S(0);
+    if (isPositive(f2)) {  // declared by the scene, not a value-dependent branch
+      const S F2 = annularArea();
+      r.orifice2 = xi2 * rho * F2 * F2 * F2 * signedSquare(r.sdot) / (S(2) * f2 * f2);
+    }
+    return r;
+  }
+  void apply(const Kins<S>& K, const Wrenches<S>& W, S* dissipation) const {
+    const Eval r = eval(K);
+    const S P = r.force();
+    W.addAt(bi, r.a_i, P * r.e);
+    W.addAt(bj, r.a_j, -P * r.e);
+    dissipation[0] = (r.friction + r.orifice1 + r.orifice2) * r.sdot;
+  }
+  S stored(const Kins<S>& K) const {
+    const Eval r = eval(K);
+    const S F = area();
+    return p01 * Omega0 / (n - S(1)) * (pow(S(1) - r.s * F / Omega0, S(1) - n) - S(1)) - pAtm * F * r.s;
+  }
+  void events(const Kins<S>&, S*) const {}
+  std::vector<std::string> outputNames() const {
+    std::vector<std::string> names{"s", "s_dot", "p_1", "P_a", "P_gas", "P_friction", "P_orifice1"};
+    if (value(f2) > 0) names.push_back("P_orifice2");
+    return names;
+  }
+  void outputs(const Kins<S>& K, S* out) const {
+    const Eval r = eval(K);
+    out[0] = r.s;
+    out[1] = r.sdot;
+    out[2] = r.p1;
+    out[3] = r.force();
+    out[4] = r.gas;
+    out[5] = r.friction;
+    out[6] = r.orifice1;
+    if (value(f2) > 0) out[7] = r.orifice2;
+  }
+  template <class T> ShockAbsorber<T> cast() const {
+    return {bi, bj, castVec<T>(rho_i), castVec<T>(rho_j), T(L0), T(D), T(D2), T(p01), T(Omega0), T(n), T(rho),
+            T(f1), T(f2), T(xi1), T(xi2), T(mu), T(pAtm), frictionVelocity, f1Table};
+  }
+};
+
+}  // namespace lg

@@ -1,0 +1,446 @@
+// Time integration of the index-1 equations with contact modes, events and stabilisation.
+//
+//   semi-implicit Euler   V += h dV/dt(x, V);  x += h dx/dt(x, V_new)              (fixed step)
+//   RK4                   classical 4th order                                       (fixed step)
+//   Dormand-Prince 5(4)   embedded pair, error control, FSAL, 4th-order dense output (adaptive)
+//
+// Between events the mode (which stops are enforced) is fixed and the right-hand side is smooth. An
+// event is: a free stop reaching contact (C crosses 0), an enforced stop whose multiplier would pull
+// (lambda crosses 0), a force element's switching function (the tyre's deflection crosses 0). The
+// adaptive pair locates the earliest event on its dense output (Illinois regula falsi, to
+// eventTolerance) and ends the step on it; the fixed-step methods handle events at the step's end.
+// Contact mode changes and plastic impacts are done by resolveContacts (engine.hpp).
+// Stabilisation: projection (engine.hpp, project) whenever the violation exceeds projectionTolerance,
+// or Baumgarte terms inside the multiplier right-hand side, or none.
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include "sim/engine.hpp"
+
+namespace lg {
+
+struct RunStatus {
+  bool ok = true;
+  std::string message;
+  long steps = 0, rejected = 0, events = 0, projections = 0;
+  double maxPositionViolation = 0;  // [m] largest |C| seen at the end of a step (before projection)
+  double maxVelocityViolation = 0;  // [m/s]
+};
+
+// The derivative part of a scalar (zero for double): what an event-time Newton correction moves.
+template <class S> inline S derivativePart(const S& x) { return x - S(value(x)); }
+
+// Dense output over the last accepted step, y(t) for t in [t0, t0 + h].
+template <class S> struct DenseOutput {
+  enum Kind { Hermite, Dopri } kind = Hermite;
+  S t0 = S(0);
+  double h = 0;
+  const VecX<S>* y0 = nullptr;
+  const VecX<S>* y1 = nullptr;
+  const VecX<S>* f0 = nullptr;  // dy/dt at t0 (Hermite)
+  const VecX<S>* f1 = nullptr;  // dy/dt at t1 (Hermite)
+  const std::vector<VecX<S>>* k = nullptr;  // Dopri stages
+  void at(const S& t, VecX<S>& out) const {
+    const S th = (t - t0) / S(h);
+    if (kind == Dopri) {
+      // Hairer & Wanner, dopri5 contd5.
+      static const double d1 = -12715105075.0 / 11282082432.0, d3 = 87487479700.0 / 32700410799.0,
+                          d4 = -10690763975.0 / 1880347072.0, d5 = 701980252875.0 / 199316789632.0,
+                          d6 = -1453857185.0 / 822651844.0, d7 = 69997945.0 / 29380423.0;
+      const auto& K = *k;
+      for (Eigen::Index i = 0; i < out.size(); ++i) {
+        const S ydiff = (*y1)[i] - (*y0)[i];
+        const S bspl = S(h) * K[0][i] - ydiff;
+        const S r4 = ydiff - S(h) * K[6][i] - bspl;
+        const S r5 = S(h) * (d1 * K[0][i] + d3 * K[2][i] + d4 * K[3][i] + d5 * K[4][i] + d6 * K[5][i] + d7 * K[6][i]);
+        out[i] = (*y0)[i] + th * (ydiff + (S(1) - th) * (bspl + th * (r4 + (S(1) - th) * r5)));
+      }
+    } else {  // cubic Hermite
+      const S h00 = S(2) * th * th * th - S(3) * th * th + S(1), h10 = th * th * th - S(2) * th * th + th,
+              h01 = S(-2) * th * th * th + S(3) * th * th, h11 = th * th * th - th * th;
+      out = h00 * (*y0) + (h10 * S(h)) * (*f0) + h01 * (*y1) + (h11 * S(h)) * (*f1);
+    }
+  }
+};
+
+// Event functions at the current workspace (rows, multipliers and force events must be current):
+// free stop: C + contactTolerance |dC/dp| (it triggers on reaching the contact band, so a stop that was
+// let go at C = 0 is still watched); enforced stop: lambda; bilateral row: 0 (never triggers); then the force events.
+template <class S>
+void eventFunctions(const Model<S>& m, const State<S>& s, const VecX<S>& lambda, const Workspace<S>& w, VecX<S>& g) {
+  const S shift(m.settings.contactTolerance);
+  for (int k = 0; k < m.nRows; ++k) {
+    if (!m.rowInfo[k].unilateral) g[k] = S(0);
+    else if (s.active[k]) g[k] = lambda[k];
+    else g[k] = w.rows[k].C + shift * w.rows[k].Ji.template head<3>().norm();
+  }
+  for (int e = 0; e < m.nForceEvents; ++e) g[m.nRows + e] = w.forceEvents[e];
+}
+
+// Does event function i trigger between g0 and g1, and is g on its "after" side?
+template <class S> bool eventTriggered(const Model<S>& m, const State<S>& s, int i, double g0, double g1) {
+  if (i < m.nRows) {
+    if (!m.rowInfo[i].unilateral) return false;
+    return s.active[i] ? (g1 < 0) : (g0 > 0 && g1 <= 0);
+  }
+  return g0 * g1 < 0;
+}
+
+// One Dormand-Prince 5(4) step with error control. On return accepted says whether y1 = stages
+// result was accepted; hNext is the proposed next step.
+namespace dopri {
+static constexpr double c[7] = {0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1, 1};
+static constexpr double a[7][6] = {
+    {0, 0, 0, 0, 0, 0},
+    {1.0 / 5, 0, 0, 0, 0, 0},
+    {3.0 / 40, 9.0 / 40, 0, 0, 0, 0},
+    {44.0 / 45, -56.0 / 15, 32.0 / 9, 0, 0, 0},
+    {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729, 0, 0},
+    {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656, 0},
+    {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
+static constexpr double e[7] = {71.0 / 57600, 0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200, 22.0 / 525,
+                                -1.0 / 40};
+}  // namespace dopri
+
+// A null observer: every hook does nothing.
+struct NoObserver {
+  template <class S> void onStart(const Model<S>&, const State<S>&, Workspace<S>&) {}
+  template <class S> void onStep(const Model<S>&, const State<S>&, Workspace<S>&, const DenseOutput<S>&) {}
+  template <class S> void onEvent(const Model<S>&, const State<S>&, Workspace<S>&, int) {}
+  bool stopRequested() const { return false; }
+};
+
+template <class S> class Integrator {
+ public:
+  Integrator(const Model<S>& m, State<S>& s, Workspace<S>& w) : m_(m), s_(s), w_(w) {}
+
+  // Integrates from s.t to tEnd. The observer's onStep runs after every accepted step with the state
+  // at the step's end (kinematics, rows, multipliers and outputs current in the workspace).
+  template <class Observer> RunStatus run(double tEnd, Observer& obs) {
+    RunStatus st;
+    const Settings& cfg = m_.settings;
+    // Initial contact modes (and impacts if a stop starts approaching), then a consistent state.
+    if (resolveContacts(m_, s_, w_) < 0) return fail(st, "contact solve failed at the start");
+    if (cfg.stabilization != Stabilization::None && !project(m_, s_, w_))
+      return fail(st, "projection failed at the start (redundant or inconsistent constraints)");
+    if (!refresh()) return fail(st, "multiplier solve failed at the start");
+    obs.onStart(m_, s_, w_);
+    double h = cfg.step;
+    while (value(s_.t) < tEnd - 1e-14 * std::max(1.0, tEnd)) {
+      if (obs.stopRequested()) return fail(st, "stopped on request");
+      if (st.steps >= cfg.maxSteps) return fail(st, "step limit reached (" + std::to_string(cfg.maxSteps) + " steps)");
+      const double remaining = tEnd - value(s_.t);
+      bool ok;
+      if (cfg.integrator == IntegratorKind::DormandPrince) ok = stepDopri(std::min(h, remaining), h, st);
+      else ok = stepFixed(std::min(cfg.step, remaining), st);
+      if (!ok) return st;
+      ++st.steps;
+      obs.onStep(m_, s_, w_, dense_);
+    }
+    return st;
+  }
+
+ private:
+  RunStatus& fail(RunStatus& st, const std::string& why) {
+    st.ok = false;
+    st.message = why + " at t = " + std::to_string(value(s_.t)) + " s";
+    return st;
+  }
+
+  // f at the current state into w.ydot (always the derivative at s.y), event functions into g0.
+  bool refresh() {
+    const bool ok = evaluate(m_, s_.y, s_.active, s_.lambda, w_, w_.ydot);
+    eventFunctions(m_, s_, s_.lambda, w_, w_.g0);
+    forceOutputs();
+    return ok && allFinite(w_.ydot);
+  }
+  void forceOutputs() {
+    const Kins<S> K = w_.kins();
+    for (size_t f = 0; f < m_.forces.size(); ++f)
+      std::visit([&](const auto& e) { e.outputs(K, w_.outputs.data() + m_.outputOffset[f]); }, m_.forces[f].type);
+  }
+  static bool allFinite(const VecX<S>& v) {
+    for (Eigen::Index i = 0; i < v.size(); ++i)
+      if (!isFinite(v[i])) return false;
+    return true;
+  }
+
+  // After an accepted step or event: stabilise if needed, then refresh f and g.
+  bool afterStep(RunStatus& st) {
+    const Settings& cfg = m_.settings;
+    double pos, vel;
+    violation(m_, s_.active, w_, pos, vel);
+    st.maxPositionViolation = std::max(st.maxPositionViolation, pos);
+    st.maxVelocityViolation = std::max(st.maxVelocityViolation, vel);
+    bool changed = false;
+    if (cfg.stabilization == Stabilization::Projection &&
+        (pos > cfg.projectionTolerance || vel > cfg.projectionTolerance)) {
+      if (!project(m_, s_, w_)) return false;
+      ++st.projections;
+      changed = true;
+    } else {
+      normalizeQuaternions(m_, s_.y);
+    }
+    if (changed) return refresh();
+    return true;
+  }
+
+  // Handles the events between the step's start (g0) and its end (g1 = w.g1); if one triggers, moves
+  // the state back onto the earliest one. Returns false on failure.
+  bool handleEvents(const DenseOutput<S>& dense, RunStatus& st, bool& hadEvent) {
+    hadEvent = false;
+    const int nG = m_.nRows + m_.nForceEvents;
+    int first = -1;
+    double tFirst = 0;
+    for (int i = 0; i < nG; ++i) {
+      if (!eventTriggered(m_, s_, i, value(w_.g0[i]), value(w_.g1[i]))) continue;
+      const double te = locate(dense, i);
+      if (first < 0 || te < tFirst) {
+        first = i;
+        tFirst = te;
+      }
+    }
+    if (first < 0) return true;
+    hadEvent = true;
+    ++st.events;
+    ScopedStage timer(w_.timer, kEvents, m_.settings.profile);
+    // The event time carries the derivatives of g (one Newton correction in S); its value is tFirst.
+    S te = S(tFirst);
+    {
+      dense.at(te, w_.ytmp);
+      w_.lamTmp = s_.lambda;
+      evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);
+      eventFunctions(m_, s_, w_.lamTmp, w_, w_.gtmp);
+      const double ga = value(w_.gtmp[first]);
+      const double dt = 1e-7 * std::max(dense.h, 1e-9);
+      dense.at(S(tFirst - dt), w_.ytmp);
+      w_.lamTmp = s_.lambda;
+      evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);
+      eventFunctions(m_, s_, w_.lamTmp, w_, w_.g2);
+      const double slope = (ga - value(w_.g2[first])) / dt;
+      if (std::abs(slope) > 0) te -= derivativePart(w_.gtmp[first]) / S(slope);
+    }
+    dense.at(te, s_.y);
+    s_.t = te;
+    // Act on it: a stop whose multiplier would pull is let go; then the contact modes are resolved
+    // (impacts for a stop arriving) for every stop at once.
+    if (first < m_.nRows && s_.active[first] && value(w_.g1[first]) < 0) s_.active[first] = 0;
+    if (resolveContacts(m_, s_, w_) < 0) return false;
+    if (m_.settings.stabilization != Stabilization::None && !project(m_, s_, w_)) return false;
+    return true;
+  }
+
+  // Earliest root of event function i on the dense output (Illinois), returned on its "after" side.
+  double locate(const DenseOutput<S>& dense, int i) {
+    ScopedStage timer(w_.timer, kEvents, m_.settings.profile);
+    double ta = value(dense.t0), tb = ta + dense.h;
+    double ga = value(w_.g0[i]), gb = value(w_.g1[i]);
+    const bool unilateralActive = i < m_.nRows && s_.active[i];
+    auto after = [&](double g) {
+      if (i < m_.nRows) return unilateralActive ? g < 0 : g <= 0;
+      return (g > 0) == (value(w_.g1[i]) > 0);
+    };
+    w_.lamTmp = s_.lambda;
+    int side = 0;
+    for (int it = 0; it < 200 && tb - ta > m_.settings.eventTolerance; ++it) {
+      double tc = (ga == gb) ? 0.5 * (ta + tb) : tb - gb * (tb - ta) / (gb - ga);
+      if (!(tc > ta && tc < tb)) tc = 0.5 * (ta + tb);
+      dense.at(S(tc), w_.ytmp);
+      evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);
+      eventFunctions(m_, s_, w_.lamTmp, w_, w_.gtmp);
+      const double gc = value(w_.gtmp[i]);
+      if (after(gc)) {
+        tb = tc;
+        gb = gc;
+        if (side == 1) ga *= 0.5;
+        side = 1;
+      } else {
+        ta = tc;
+        ga = gc;
+        if (side == -1) gb *= 0.5;
+        side = -1;
+      }
+    }
+    return tb;
+  }
+
+  bool stepDopri(double h, double& hNext, RunStatus& st) {
+    const Settings& cfg = m_.settings;
+    auto& k = w_.stages;
+    const int ny = m_.ny(), nErr = m_.nx() + m_.nv();
+    k[0] = w_.ydot;
+    for (int attempt = 0; attempt < 60; ++attempt) {
+      w_.y0 = s_.y;
+      bool ok = true;
+      for (int i = 1; i < 7; ++i) {
+        {
+          ScopedStage timer(w_.timer, kIntegrate, cfg.profile);
+          w_.ytmp = w_.y0;
+          for (int j = 0; j < i; ++j)
+            if (dopri::a[i][j] != 0) w_.ytmp += S(h * dopri::a[i][j]) * k[j];
+        }
+        ok = evaluate(m_, w_.ytmp, s_.active, s_.lambda, w_, k[i]) && ok;
+      }
+      // y1 = ytmp after stage 7 (a[6] = b), k[6] = f(y1) (FSAL).
+      double err = 0;
+      {
+        ScopedStage timer(w_.timer, kIntegrate, cfg.profile);
+        w_.y1 = w_.ytmp;
+        for (int i = 0; i < nErr; ++i) {
+          S e(0);
+          for (int j = 0; j < 7; ++j)
+            if (dopri::e[j] != 0) e += S(dopri::e[j]) * k[j][i];
+          const double sc = cfg.atol + cfg.rtol * std::max(std::abs(value(w_.y0[i])), std::abs(value(w_.y1[i])));
+          const double r = h * value(e) / sc;
+          err += r * r;
+        }
+        err = std::sqrt(err / nErr);
+      }
+      if (!ok || !allFinite(w_.y1) || !std::isfinite(err)) {
+        if (h < 1e-12) return failNonFinite(st);
+        h *= 0.25;
+        ++st.rejected;
+        continue;
+      }
+      if (err > 1.0) {
+        h *= std::max(0.2, 0.9 * std::pow(err, -0.2));
+        ++st.rejected;
+        if (h < 1e-14) {
+          fail(st, "step size underflow");
+          return false;
+        }
+        continue;
+      }
+      hNext = std::min(cfg.maxStep, h * std::min(5.0, std::max(0.2, 0.9 * std::pow(std::max(err, 1e-10), -0.2))));
+      // Accept: state at the step's end, event functions there.
+      dense_.kind = DenseOutput<S>::Dopri;
+      dense_.t0 = s_.t;
+      dense_.h = h;
+      dense_.y0 = &w_.y0;
+      dense_.y1 = &w_.y1;
+      dense_.k = &w_.stages;
+      s_.y = w_.y1;
+      s_.t = s_.t + S(h);
+      eventFunctions(m_, s_, s_.lambda, w_, w_.g1);
+      bool hadEvent = false;
+      if (!handleEvents(dense_, st, hadEvent)) {
+        fail(st, "contact or projection solve failed after an event");
+        return false;
+      }
+      if (hadEvent) {
+        // The step ends on the event; the dense output (valid on [t0, t0 + h]) still describes
+        // [t0, t_event] for the observer. The state may have jumped (impact, projection): refresh f.
+        if (!refresh()) return failNonFinite(st);
+        hNext = std::max(h * 0.1, 1e-8);
+        return true;
+      }
+      // Smooth step: first same as last.
+      w_.ydot = k[6];
+      w_.g0 = w_.g1;
+      forceOutputs();
+      if (!afterStep(st)) {
+        fail(st, "projection failed");
+        return false;
+      }
+      return true;
+    }
+    fail(st, "too many rejected steps");
+    return false;
+  }
+
+  bool failNonFinite(RunStatus& st) {
+    fail(st, "non-finite state (a force or multiplier overflowed)");
+    return false;
+  }
+
+  bool stepFixed(double h, RunStatus& st) {
+    const Settings& cfg = m_.settings;
+    auto& k = w_.stages;
+    w_.y0 = s_.y;
+    k[0] = w_.ydot;
+    w_.yerr = k[0];  // f(t0), kept for the Hermite dense output
+    bool ok = true;
+    if (cfg.integrator == IntegratorKind::SemiImplicitEuler) {
+      const int nx = m_.nx(), nv = m_.nv(), N = m_.nBodies();
+      ScopedStage timer(w_.timer, kIntegrate, cfg.profile);
+      w_.y1 = w_.y0;
+      w_.y1.segment(nx, nv) += S(h) * k[0].segment(nx, nv);
+      w_.y1.tail(m_.nDissipation) += S(h) * k[0].tail(m_.nDissipation);
+      for (int b = 0; b < N; ++b) {
+        w_.y1.template segment<3>(7 * b) += S(h) * w_.y1.template segment<3>(nx + 6 * b);
+        const Vec3<S> om = w_.y1.template segment<3>(nx + 6 * b + 3);
+        w_.y1.template segment<4>(7 * b + 3) = rotateQuaternion<S>(w_.y1.template segment<4>(7 * b + 3), S(h) * om);
+      }
+    } else {  // RK4
+      auto stage = [&](int i, double c) {
+        {
+          ScopedStage timer(w_.timer, kIntegrate, cfg.profile);
+          w_.ytmp = w_.y0 + S(c * h) * k[i - 1];
+        }
+        ok = evaluate(m_, w_.ytmp, s_.active, s_.lambda, w_, k[i]) && ok;
+      };
+      stage(1, 0.5);
+      stage(2, 0.5);
+      stage(3, 1.0);
+      ScopedStage timer(w_.timer, kIntegrate, cfg.profile);
+      w_.y1 = w_.y0 + S(h / 6) * (k[0] + S(2) * k[1] + S(2) * k[2] + k[3]);
+    }
+    if (!ok || !allFinite(w_.y1)) return failNonFinite(st);
+    s_.y = w_.y1;
+    s_.t = s_.t + S(h);
+    normalizeQuaternions(m_, s_.y);
+    if (!refresh()) return failNonFinite(st);
+    w_.g1 = w_.g0;
+    // Events at the step's end: a stop that arrived or would pull; then stabilise.
+    bool any = false;
+    for (int i = 0; i < m_.nRows; ++i) {
+      if (!m_.rowInfo[i].unilateral) continue;
+      if (s_.active[i] ? value(s_.lambda[i]) < 0 : value(w_.rows[i].C) <= 0) any = true;
+    }
+    if (any) {
+      ++st.events;
+      for (int i = 0; i < m_.nRows; ++i)
+        if (m_.rowInfo[i].unilateral && s_.active[i] && value(s_.lambda[i]) < 0) s_.active[i] = 0;
+      if (resolveContacts(m_, s_, w_) < 0) {
+        fail(st, "contact solve failed");
+        return false;
+      }
+      if (cfg.stabilization == Stabilization::Projection && !project(m_, s_, w_)) {
+        fail(st, "projection failed");
+        return false;
+      }
+      if (!refresh()) return failNonFinite(st);
+    } else if (!afterStep(st)) {
+      fail(st, "projection failed");
+      return false;
+    }
+    dense_.kind = DenseOutput<S>::Hermite;
+    dense_.t0 = s_.t - S(h);
+    dense_.h = h;
+    dense_.y0 = &w_.y0;
+    dense_.y1 = &s_.y;
+    dense_.f0 = &w_.yerr;
+    dense_.f1 = &w_.ydot;
+    return true;
+  }
+
+  const Model<S>& m_;
+  State<S>& s_;
+  Workspace<S>& w_;
+  DenseOutput<S> dense_;
+};
+
+// Runs a model from state s to tEnd (free-function form, like mj_step).
+template <class S, class Observer> RunStatus simulate(const Model<S>& m, State<S>& s, Workspace<S>& w, double tEnd,
+                                                      Observer& obs) {
+  Integrator<S> integ(m, s, w);
+  return integ.run(tEnd, obs);
+}
+template <class S> RunStatus simulate(const Model<S>& m, State<S>& s, Workspace<S>& w, double tEnd) {
+  NoObserver obs;
+  return simulate(m, s, w, tEnd, obs);
+}
+
+}  // namespace lg

@@ -1,0 +1,84 @@
+// Scene files (TOML): bodies, joints, stops, force elements, solver settings and drop cases.
+// The parser validates at the edge: every error names the file, line, key, value and rule, and the
+// caller exits with status 2 before writing anything. See README.md, "Scene files".
+#pragma once
+
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "sim/core/state.hpp"
+
+namespace lg {
+
+// Bad input: a message naming file, line, key and rule.
+class InputError : public std::runtime_error {
+ public:
+  InputError(const std::string& file, int line, const std::string& key, const std::string& rule)
+      : std::runtime_error(format(file, line, key, rule)), file_(file), line_(line), key_(key) {}
+  const std::string& file() const { return file_; }
+  int line() const { return line_; }
+  const std::string& key() const { return key_; }
+  static std::string format(const std::string& file, int line, const std::string& key, const std::string& rule) {
+    std::string s = file;
+    if (line > 0) s += ":" + std::to_string(line);
+    if (!key.empty()) s += ": key '" + key + "'";
+    return s + ": " + rule;
+  }
+
+ private:
+  std::string file_;
+  int line_;
+  std::string key_;
+};
+
+// A named drop test: every body starts with velocity (0, -sinkSpeed, 0) along -gravity, no rotation.
+struct DropCase {
+  std::string name;
+  double sinkSpeed = 0;    // [m/s] V_y0
+  double liftRatio = 0;    // [-] L: lift P_H = L G g on the lift elements
+  double duration = 0.8;   // [s]
+  std::map<std::string, double> masses;  // [kg] body name -> mass, overriding the scene for this case
+};
+
+// What a scene declares for the drop-test reports.
+struct GearRoles {
+  std::string airframe;                 // body whose vertical displacement is h
+  std::vector<int> tyres, struts;       // force element indices
+  std::vector<int> stops;               // constraint indices of the unilateral stops
+  std::vector<int> lifts;               // force element indices of lift elements
+};
+
+struct Scene {
+  std::string file;          // path as given (for messages)
+  std::string name;
+  toml::table doc;           // the parsed document (design studies edit it and rebuild)
+  Model<double> model;
+  State<double> initial;     // positions at t = 0 (velocities set per case)
+  std::vector<DropCase> cases;
+  GearRoles roles;
+  double gravity = 9.80665;  // [m/s^2] |g|
+  Vec3<double> up{0, 1, 0};  // -g / |g|
+};
+
+// Parses a scene file; throws InputError.
+Scene loadScene(const std::string& path);
+// Parses scene text; 'file' names it in messages; 'baseDir' resolves relative table paths.
+Scene parseScene(const std::string& text, const std::string& file, const std::string& baseDir = ".");
+// Builds a scene from an already parsed document (used by design studies after editing 'doc').
+Scene buildScene(const toml::table& doc, const std::string& file, const std::string& baseDir = ".");
+
+// Design-parameter paths "<element>.<key>" (e.g. "strut.f1", "tyre.K", "airframe.mass"): the element
+// is a body, joint, stop or force element named in the scene, or "case.<name>" for a drop case.
+// Throws InputError naming 'where' if the path does not name a numeric scalar of the scene.
+double getParameter(const toml::table& doc, const std::string& path, const std::string& where = "");
+void setParameter(toml::table& doc, const std::string& path, double value, const std::string& where = "");
+
+// Writes the document back as TOML.
+std::string toTomlString(const toml::table& doc);
+
+}  // namespace lg

@@ -1,0 +1,185 @@
+// Multiplier solvers. They see rows only: the list of rows in the solve, their J blocks, and
+// W = M^-1 J^T. Two methods, chosen per run (Settings::solver):
+//   direct        J M^-1 J^T lambda = rhs assembled over the row list, exploiting the block sparsity
+//                 (an entry is non-zero only where two rows share a body), solved by an in-place
+//                 LDL^T; unilateral rows by an active set (pivoting on the most violated row).
+//   Gauss-Seidel  the article's iteration, lambda_k += (rhs_k - A_k lambda)/A_kk, projected onto
+//                 lambda_k >= 0 for unilateral rows in a contact solve, warm-started.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "sim/core/state.hpp"
+
+namespace lg {
+
+// W_k = M^-1 J_k^T for every row in work.list.
+template <class S> void computeW(const Model<S>& m, Workspace<S>& w) {
+  for (int k : w.list) {
+    const RowInfo& ri = m.rowInfo[k];
+    const Row<S>& row = w.rows[k];
+    if (ri.bi >= 0) {
+      const BodyKin<S>& K = w.kin[ri.bi];
+      w.Wi[k].template head<3>() = K.invMass * row.Ji.template head<3>();
+      w.Wi[k].template tail<3>() = K.IwInv * row.Ji.template tail<3>();
+    }
+    if (ri.bj >= 0) {
+      const BodyKin<S>& K = w.kin[ri.bj];
+      w.Wj[k].template head<3>() = K.invMass * row.Jj.template head<3>();
+      w.Wj[k].template tail<3>() = K.IwInv * row.Jj.template tail<3>();
+    }
+  }
+}
+
+// A = J M^-1 J^T over work.list (n x n, top-left of work.A). Entry (a, c) sums over the bodies the two
+// rows share; rows with no common body give 0 without arithmetic.
+template <class S> void assembleA(const Model<S>& m, Workspace<S>& w) {
+  const int n = static_cast<int>(w.list.size());
+  for (int a = 0; a < n; ++a) {
+    const int k = w.list[a];
+    const RowInfo& rk = m.rowInfo[k];
+    for (int c = a; c < n; ++c) {
+      const int l = w.list[c];
+      const RowInfo& rl = m.rowInfo[l];
+      S s(0);
+      if (rk.bi >= 0) {
+        if (rk.bi == rl.bi) s += w.rows[k].Ji.dot(w.Wi[l]);
+        else if (rk.bi == rl.bj) s += w.rows[k].Ji.dot(w.Wj[l]);
+      }
+      if (rk.bj >= 0) {
+        if (rk.bj == rl.bi) s += w.rows[k].Jj.dot(w.Wi[l]);
+        else if (rk.bj == rl.bj) s += w.rows[k].Jj.dot(w.Wj[l]);
+      }
+      w.A(a, c) = s;
+      w.A(c, a) = s;
+    }
+  }
+}
+
+// In-place LDL^T of the n x n top-left block of M (lower triangle holds L, diagonal holds D), then
+// x = M^-1 x. Returns false on a non-positive pivot (redundant or inconsistent rows).
+template <class S> bool ldltFactor(MatX<S>& M, int n) {
+  for (int j = 0; j < n; ++j) {
+    S d = M(j, j);
+    for (int k = 0; k < j; ++k) d -= M(j, k) * M(j, k) * M(k, k);
+    if (!(value(d) > 1e-300)) return false;
+    M(j, j) = d;
+    for (int i = j + 1; i < n; ++i) {
+      S s = M(i, j);
+      for (int k = 0; k < j; ++k) s -= M(i, k) * M(j, k) * M(k, k);
+      M(i, j) = s / d;
+    }
+  }
+  return true;
+}
+template <class S> void ldltSolve(const MatX<S>& M, int n, VecX<S>& x) {
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < i; ++k) x[i] -= M(i, k) * x[k];
+  for (int i = 0; i < n; ++i) x[i] /= M(i, i);
+  for (int i = n - 1; i >= 0; --i)
+    for (int k = i + 1; k < n; ++k) x[i] -= M(k, i) * x[k];
+}
+
+// Solves A lam = b over work.list with every row as an equality. A is assembled by the caller;
+// the direct method overwrites A with its factor.
+template <class S> bool solveEquality(const Model<S>& m, Workspace<S>& w, bool projectUnilateral) {
+  const int n = static_cast<int>(w.list.size());
+  w.report = SolveReport{};
+  if (n == 0) return true;
+  if (m.settings.solver == MultiplierSolver::Direct && !projectUnilateral) {
+    for (int a = 0; a < n; ++a) w.lam[a] = w.b[a];
+    if (!ldltFactor(w.A, n)) {
+      w.report.ok = false;
+      return false;
+    }
+    ldltSolve(w.A, n, w.lam);
+    return true;
+  }
+  // Gauss-Seidel, warm-started from w.lam (set by the caller).
+  double scale = 0;
+  for (int a = 0; a < n; ++a) scale = std::max(scale, std::abs(value(w.b[a])));
+  scale = std::max(scale, 1e-300);
+  const int maxIt = m.settings.gaussSeidelIterations;
+  const double tol = m.settings.gaussSeidelTolerance * scale;
+  for (int it = 1; it <= maxIt; ++it) {
+    double worst = 0;
+    for (int a = 0; a < n; ++a) {
+      S r = w.b[a];
+      for (int c = 0; c < n; ++c) r -= w.A(a, c) * w.lam[c];
+      S next = w.lam[a] + r / w.A(a, a);
+      if (projectUnilateral && m.rowInfo[w.list[a]].unilateral && value(next) < 0) next = S(0);
+      worst = std::max(worst, std::abs(value(next - w.lam[a]) * value(w.A(a, a))));
+      w.lam[a] = next;
+    }
+    w.report.iterations = it;
+    w.report.residual = worst;
+    if (worst <= tol) return true;
+  }
+  // Did not reach the tolerance: keep the iterate (the article's method has a fixed budget) and say so.
+  w.report.ok = w.report.residual <= 1e3 * tol;
+  return w.report.ok;
+}
+
+// Mixed LCP over work.list: bilateral rows A lam = b exactly; unilateral rows lam >= 0,
+// (A lam - b) >= 0, complementary. A and b are assembled by the caller. On return w.lam holds the
+// multipliers and w.list is unchanged. Used at mode switches: which stops stay in contact (b at the
+// acceleration level) and plastic impacts (b at the velocity level).
+template <class S> bool solveLcp(const Model<S>& m, Workspace<S>& w) {
+  const int n = static_cast<int>(w.list.size());
+  if (n == 0) return true;
+  if (m.settings.solver == MultiplierSolver::GaussSeidel) {
+    for (int a = 0; a < n; ++a) w.lam[a] = S(0);
+    return solveEquality(m, w, /*projectUnilateral=*/true);
+  }
+  // Active set with pivoting: start with every row in; drop the most negative unilateral multiplier,
+  // add back the most violated dropped row, until both conditions hold.
+  MatX<S> A0 = w.A.topLeftCorner(n, n);  // (mode switches only: not in the step's hot path)
+  VecX<S> b0 = w.b.head(n);
+  std::vector<char> in(n, 1);
+  VecX<S> lam = VecX<S>::Zero(n);
+  for (int iter = 0; iter < 4 * n + 8; ++iter) {
+    std::vector<int> idx;
+    for (int a = 0; a < n; ++a)
+      if (in[a]) idx.push_back(a);
+    const int na = static_cast<int>(idx.size());
+    MatX<S> As(na, na);
+    VecX<S> x(na);
+    for (int a = 0; a < na; ++a) {
+      x[a] = b0[idx[a]];
+      for (int c = 0; c < na; ++c) As(a, c) = A0(idx[a], idx[c]);
+    }
+    if (na > 0 && !ldltFactor(As, na)) return false;
+    if (na > 0) ldltSolve(As, na, x);
+    lam.setZero();
+    for (int a = 0; a < na; ++a) lam[idx[a]] = x[a];
+    int worst = -1;
+    double worstVal = 0;
+    for (int a = 0; a < n; ++a)
+      if (in[a] && m.rowInfo[w.list[a]].unilateral && value(lam[a]) < worstVal) {
+        worst = a;
+        worstVal = value(lam[a]);
+      }
+    if (worst >= 0) {
+      in[worst] = 0;
+      continue;
+    }
+    const VecX<S> gap = A0 * lam - b0;  // >= 0 required for the rows left out
+    double tol = 1e-12 * (b0.cwiseAbs().maxCoeff() == S(0) ? 1.0 : value(b0.cwiseAbs().maxCoeff()));
+    for (int a = 0; a < n; ++a)
+      if (!in[a] && value(gap[a]) < -tol && value(gap[a]) < worstVal) {
+        worst = a;
+        worstVal = value(gap[a]);
+      }
+    if (worst >= 0) {
+      in[worst] = 1;
+      continue;
+    }
+    for (int a = 0; a < n; ++a) w.lam[a] = lam[a];
+    w.report = SolveReport{};
+    return true;
+  }
+  return false;
+}
+
+}  // namespace lg
