@@ -5,12 +5,17 @@
 // fhat = s f / fscale (s = -1 when maximising; fscale = |f(initial)|, or 1 if that is 0 or failed)
 // and the constraints ghat_j = g_j / gscale_j <= 0.
 //
-// Constraints. COBYLA, ISRES, AGS and the AUGLAG family get ghat_j as nlopt inequality constraints.
-// Every other algorithm (BOBYQA, SBPLX, NELDERMEAD, PRAXIS, NEWUOA_BOUND, DIRECT, CRS2, ESCH, MLSL,
-// ...) minimises the exact (L1) penalty function
-//     phi(u) = fhat(u) + penalty * sum_j max(0, ghat_j(u)),
-// whose minimiser is the constrained one once penalty exceeds the largest Lagrange multiplier of
-// the scaled problem (default penalty = 100).
+// Constraints (ConstraintHandling):
+//  - Native: COBYLA, ISRES, AGS and the AUGLAG family get ghat_j as nlopt inequality constraints.
+//  - AugmentedLagrangian: the other local derivative-free algorithms (LN_BOBYQA, LN_SBPLX,
+//    LN_NELDERMEAD, LN_PRAXIS, LN_NEWUOA_BOUND) run inside NLopt's LN_AUGLAG, which hands them smooth
+//    augmented-Lagrangian subproblems (their quadratic / simplex models break on a penalty's kink).
+//    maxeval and maxtime count every evaluation of the subproblems.
+//  - Penalty: global algorithms without constraints (DIRECT, CRS2, ESCH, MLSL, ...) minimise the
+//    exact (L1) penalty function
+//        phi(u) = fhat(u) + penalty * sum_j max(0, ghat_j(u)),
+//    whose minimiser is the constrained one once penalty exceeds the largest Lagrange multiplier of
+//    the scaled problem (default penalty = 100).
 //
 // Failures. An evaluation that fails (ok = false, or a non-finite objective or constraint) is
 // infeasible: fhat = kFailValue and every ghat_j = kFailValue (finite, so NLopt's models survive),
@@ -94,6 +99,10 @@ struct OptimizationResult {
   double wallTime = 0;             // [s]
   std::vector<EvaluationRecord> history;  // x, objective, feasibility per evaluation (no case detail)
 };
+
+enum class ConstraintHandling { None, Native, AugmentedLagrangian, Penalty };
+ConstraintHandling constraintHandling(const std::string& algorithm);  // for a problem with constraints
+std::string describeConstraintHandling(const std::string& algorithm, double penalty);
 
 // Validates an algorithm name (and its local optimiser); returns an empty string or the rule broken.
 std::string checkAlgorithm(const std::string& name, const std::string& local);

@@ -24,7 +24,7 @@ struct RunOptions {
   bool resume = false;      // reuse DIR/history.csv evaluations (cache by exact bits of x)
   bool plots = true;        // run gnuplot for report.md
   std::function<bool()> stop;                                 // Ctrl-C flag
-  std::function<void(const EvaluationRecord&, const EvaluationRecord& best, double elapsed_s)> progress;
+  std::function<void(const EvaluationRecord&, double elapsed_s)> progress;  // after each evaluation
 };
 
 struct StudyResult {

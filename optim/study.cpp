@@ -31,7 +31,7 @@ class Reader {
   Reader(const toml::table& t, std::string file, std::string prefix)
       : t_(t), file_(std::move(file)), prefix_(std::move(prefix)) {}
 
-  int line() const { return lineOf(t_); }
+  int line() const { return optim::lineOf(t_); }
   int lineOf(const std::string& key) const {
     const toml::node* n = t_.get(key);
     return n ? optim::lineOf(*n) : line();

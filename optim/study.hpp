@@ -101,8 +101,8 @@ Study loadStudy(const std::string& path);
 // 'file' names the text in messages; 'baseDir' resolves the scene path.
 Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir = ".");
 
-// True where NLopt handles inequality constraints itself (COBYLA, ISRES, AGS, AUGLAG family);
-// every other algorithm gets them as an exact penalty (optimizer.hpp).
+// True where NLopt handles inequality constraints itself (COBYLA, ISRES, AGS, AUGLAG family); the
+// other local algorithms run inside LN_AUGLAG, the global ones get an exact penalty (optimizer.hpp).
 bool nativeConstraints(const std::string& algorithm);
 
 }  // namespace lg::optim

@@ -105,11 +105,13 @@ class DropObserver {
   }
 
   void onStep(const Model<double>& m, const State<double>& s, Workspace<double>& w, const DenseOutput<double>& d) {
-    Channels end = channels(s.t, w);
     const std::vector<double> lam(stopForces(s, w));
     const double viol = violation(s, w);
-    // Compression integrals (Simpson on the dense output) over [t0, t1], and refined extrema.
+    // Compression integrals (Simpson on the dense output) over [t0, t1], and refined extrema. The step's
+    // end is taken on the dense output, i.e. before any jump at t1 (a plastic impact or a projection
+    // changes the velocities, hence sdot, hdot and P_a, but belongs to the next step's start).
     const double t0 = prev_.t, t1 = s.t;
+    const Channels end = channelsAt(t1, w, d);
     Channels mid = channelsAt(0.5 * (t0 + t1), w, d);
     workPy_ += simpson(prev_.Py, mid.Py, end.Py, prev_.h, mid.h, end.h, prev_.hdot, mid.hdot, end.hdot, t1 - t0);
     workPa_ += simpson(prev_.Pa, mid.Pa, end.Pa, prev_.s, mid.s, end.s, prev_.sdot, mid.sdot, end.sdot, t1 - t0);
@@ -128,7 +130,10 @@ class DropObserver {
       tHmax_ = tH;
       hMinAfter_ = std::numeric_limits<double>::infinity();
     }
-    M.strut_force_max_N = std::max(M.strut_force_max_N, std::max(end.Pa, mid.Pa));
+    // Peak P_a (no rate channel): where this step may hold a new maximum, search it on the dense output.
+    if (std::max(mid.Pa, end.Pa) > M.strut_force_max_N)
+      refine(1.0, -1.0, t0, t1, w, d, [](const Channels& c) { return c.Pa; }, M.strut_force_max_N, nullptr,
+             std::max(mid.Pa, end.Pa), end.t);
     if (s.t > tHmax_) hMinAfter_ = std::min(hMinAfter_, end.h);
     M.constraint_violation_max = std::max(M.constraint_violation_max, viol);
     checkBottom(s);
@@ -140,9 +145,10 @@ class DropObserver {
       for (size_t f = 0; f < m.forces.size(); ++f)
         std::visit([&](const auto& e) { e.outputs(K, w.outputs.data() + m.outputOffset[f]); }, m.forces[f].type);
     }
-    end = channels(s.t, w);
-    if (opt_.record) res_.samples.push_back({end.t, end.Py, end.s, end.h, end.delta, end.Pa, lam, viol});
-    prev_ = end;
+    const Channels after = channels(s.t, w);  // after any jump: the next step's start
+    M.strut_force_max_N = std::max(M.strut_force_max_N, after.Pa);
+    if (opt_.record) res_.samples.push_back({after.t, after.Py, after.s, after.h, after.delta, after.Pa, lam, viol});
+    prev_ = after;
     ++steps_;
   }
 

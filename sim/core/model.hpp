@@ -26,8 +26,8 @@ struct Settings {
   double projectionTolerance = 1e-9;  // [m] project positions when |C| exceeds this (and J V likewise, [m/s])
   double baumgarteAlpha = 10.0;       // [1/s] 2 alpha dC/dt
   double baumgarteBeta = 10.0;        // [1/s] beta^2 C
-  int gaussSeidelIterations = 500;    // Gauss-Seidel sweeps at most
-  double gaussSeidelTolerance = 1e-10;  // [-] relative residual of the multipliers' equations
+  int gaussSeidelIterations = 10000;  // Gauss-Seidel sweeps at most (large mass ratios converge slowly)
+  double gaussSeidelTolerance = 1e-9;   // [-] relative residual of the multipliers' equations
   double contactTolerance = 1e-7;     // [m] a stop within this is touching
   double eventTolerance = 1e-12;      // [s] width of the bracket of a located event
   bool profile = false;               // time each stage of the step

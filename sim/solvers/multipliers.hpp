@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Cholesky>
+
 #include "sim/core/state.hpp"
 
 namespace lg {
@@ -33,52 +35,47 @@ template <class S> void computeW(const Model<S>& m, Workspace<S>& w) {
 }
 
 // A = J M^-1 J^T over work.list (n x n, top-left of work.A). Entry (a, c) sums over the bodies the two
-// rows share; rows with no common body give 0 without arithmetic.
+// rows share; rows with no common body give 0 without arithmetic (the block sparsity of the
+// constraint graph).
 template <class S> void assembleA(const Model<S>& m, Workspace<S>& w) {
   const int n = static_cast<int>(w.list.size());
   for (int a = 0; a < n; ++a) {
     const int k = w.list[a];
     const RowInfo& rk = m.rowInfo[k];
+    const Row<S>& row = w.rows[k];
     for (int c = a; c < n; ++c) {
       const int l = w.list[c];
       const RowInfo& rl = m.rowInfo[l];
       S s(0);
       if (rk.bi >= 0) {
-        if (rk.bi == rl.bi) s += w.rows[k].Ji.dot(w.Wi[l]);
-        else if (rk.bi == rl.bj) s += w.rows[k].Ji.dot(w.Wj[l]);
+        if (rk.bi == rl.bi) s += row.Ji.dot(w.Wi[l]);
+        else if (rk.bi == rl.bj) s += row.Ji.dot(w.Wj[l]);
       }
       if (rk.bj >= 0) {
-        if (rk.bj == rl.bi) s += w.rows[k].Jj.dot(w.Wi[l]);
-        else if (rk.bj == rl.bj) s += w.rows[k].Jj.dot(w.Wj[l]);
+        if (rk.bj == rl.bi) s += row.Jj.dot(w.Wi[l]);
+        else if (rk.bj == rl.bj) s += row.Jj.dot(w.Wj[l]);
       }
-      w.A(a, c) = s;
       w.A(c, a) = s;
+      w.A(a, c) = s;
     }
   }
 }
 
-// In-place LDL^T of the n x n top-left block of M (lower triangle holds L, diagonal holds D), then
-// x = M^-1 x. Returns false on a non-positive pivot (redundant or inconsistent rows).
+// In-place Cholesky factor (L L^T, Eigen's LLT on the n x n top-left block of M, no allocation), then
+// x = M^-1 x with the two triangular solves. Returns false if the block is not positive definite
+// (redundant or inconsistent rows).
 template <class S> bool ldltFactor(MatX<S>& M, int n) {
-  for (int j = 0; j < n; ++j) {
-    S d = M(j, j);
-    for (int k = 0; k < j; ++k) d -= M(j, k) * M(j, k) * M(k, k);
-    if (!(value(d) > 1e-300)) return false;
-    M(j, j) = d;
-    for (int i = j + 1; i < n; ++i) {
-      S s = M(i, j);
-      for (int k = 0; k < j; ++k) s -= M(i, k) * M(j, k) * M(k, k);
-      M(i, j) = s / d;
-    }
-  }
-  return true;
+  if (n == 0) return true;
+  Eigen::Ref<MatX<S>> block(M.topLeftCorner(n, n));
+  Eigen::LLT<Eigen::Ref<MatX<S>>> llt(block);
+  return llt.info() == Eigen::Success;
 }
 template <class S> void ldltSolve(const MatX<S>& M, int n, VecX<S>& x) {
-  for (int i = 0; i < n; ++i)
-    for (int k = 0; k < i; ++k) x[i] -= M(i, k) * x[k];
-  for (int i = 0; i < n; ++i) x[i] /= M(i, i);
-  for (int i = n - 1; i >= 0; --i)
-    for (int k = i + 1; k < n; ++k) x[i] -= M(k, i) * x[k];
+  if (n == 0) return;
+  const auto L = M.topLeftCorner(n, n).template triangularView<Eigen::Lower>();
+  auto xs = x.head(n);
+  L.solveInPlace(xs);
+  L.transpose().solveInPlace(xs);
 }
 
 // Solves A lam = b over work.list with every row as an equality. A is assembled by the caller;

@@ -1,0 +1,394 @@
+// NLopt driver (optimizer.hpp).
+#include "optim/optimizer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+
+#include <nlopt.hpp>
+
+namespace lg::optim {
+namespace {
+
+bool startsWith(const std::string& s, const char* p) { return s.rfind(p, 0) == 0; }
+
+bool needsLocal(const std::string& a) {
+  return a == "GN_MLSL" || a == "GN_MLSL_LDS" || a == "G_MLSL" || a == "G_MLSL_LDS" || a == "AUGLAG" ||
+         a == "AUGLAG_EQ" || a == "LN_AUGLAG" || a == "LN_AUGLAG_EQ";
+}
+
+// Sum of the positive parts of the scaled constraints.
+double violation(const std::vector<double>& ghat) {
+  double v = 0;
+  for (double g : ghat) v += std::max(0.0, g);
+  return v;
+}
+
+struct Point {  // what NLopt sees at one u
+  double fhat = kFailValue;
+  std::vector<double> ghat;
+};
+
+struct Context {
+  const Problem* p = nullptr;
+  const AlgorithmSettings* a = nullptr;
+  const Observer* obs = nullptr;
+  const EvaluationCache* resume = nullptr;
+  nlopt::opt* opt = nullptr;
+  bool penalised = false;
+  double fscale = 1;
+  std::vector<double> u0, x0;  // initial design: u0 maps back to x0 exactly
+  EvaluationCache seen;        // this run's evaluations
+  OptimizationResult* out = nullptr;
+  bool stopped = false;
+  // last point whose constraints NLopt may ask for
+  std::vector<double> lastU;
+  Point last;
+};
+
+double clamp01(double u) { return std::isnan(u) ? 0.0 : std::min(1.0, std::max(0.0, u)); }
+
+// u -> x, exact at the bounds and at the initial design.
+std::vector<double> physical(const Context& c, const double* u) {
+  const auto& vars = c.p->variables;
+  std::vector<double> x(vars.size());
+  for (size_t i = 0; i < vars.size(); ++i) {
+    const double ui = clamp01(u[i]);
+    if (ui == c.u0[i]) x[i] = c.x0[i];
+    else if (ui == 0.0) x[i] = vars[i].lower;
+    else if (ui == 1.0) x[i] = vars[i].upper;
+    else x[i] = std::clamp(toPhysical(vars[i], ui), vars[i].lower, vars[i].upper);
+  }
+  return x;
+}
+
+// Marks non-finite results as failures.
+void sanitize(Evaluation& e, size_t nConstraints) {
+  if (e.ok && !std::isfinite(e.objective)) {
+    e.ok = false;
+    e.message = "non-finite objective";
+  }
+  if (e.ok && e.constraints.size() != nConstraints) {
+    e.ok = false;
+    e.message = "the evaluation returned " + std::to_string(e.constraints.size()) + " constraint values, expected " +
+                std::to_string(nConstraints);
+  }
+  for (size_t j = 0; e.ok && j < e.constraints.size(); ++j)
+    if (!std::isfinite(e.constraints[j])) {
+      e.ok = false;
+      e.message = "non-finite constraint value";
+    }
+  if (!e.ok && e.message.empty()) e.message = "evaluation failed";
+}
+
+Point scaledPoint(const Context& c, const Evaluation& e) {
+  Point pt;
+  const size_t m = c.p->constraintNames.size();
+  if (!e.ok) {
+    pt.fhat = kFailValue;
+    pt.ghat.assign(m, kFailValue);
+    return pt;
+  }
+  pt.fhat = (c.p->maximize ? -e.objective : e.objective) / c.fscale;
+  pt.ghat.resize(m);
+  for (size_t j = 0; j < m; ++j) {
+    const double s = j < c.p->constraintScales.size() && c.p->constraintScales[j] > 0 ? c.p->constraintScales[j] : 1.0;
+    pt.ghat[j] = e.constraints[j] / s;
+  }
+  return pt;
+}
+
+// True if record a is better than b (documented in optimizer.hpp).
+bool better(const Context& c, const EvaluationRecord& a, const EvaluationRecord& b) {
+  if (a.feasible != b.feasible) return a.feasible;
+  if (a.evaluation.ok != b.evaluation.ok) return a.evaluation.ok;
+  if (!a.evaluation.ok) return false;
+  if (a.feasible) {
+    const double fa = c.p->maximize ? -a.evaluation.objective : a.evaluation.objective;
+    const double fb = c.p->maximize ? -b.evaluation.objective : b.evaluation.objective;
+    return fa < fb;
+  }
+  return violation(scaledPoint(c, a.evaluation).ghat) < violation(scaledPoint(c, b.evaluation).ghat);
+}
+
+// Evaluates x (through the caches); never throws.
+Evaluation evaluateCached(Context& c, const std::vector<double>& x, bool* cached) {
+  const auto key = bitsOf(x);
+  if (auto it = c.seen.find(key); it != c.seen.end()) {
+    *cached = true;
+    return it->second;
+  }
+  Evaluation e;
+  *cached = false;
+  if (c.resume) {
+    if (auto it = c.resume->find(key); it != c.resume->end()) {
+      e = it->second;
+      *cached = true;
+    }
+  }
+  if (!*cached) {
+    try {
+      e = c.p->evaluate(x);
+    } catch (const std::exception& ex) {
+      e = Evaluation{};
+      e.ok = false;
+      e.message = std::string("evaluation threw: ") + ex.what();
+    } catch (...) {
+      e = Evaluation{};
+      e.ok = false;
+      e.message = "evaluation threw an unknown exception";
+    }
+    sanitize(e, c.p->constraintNames.size());
+  }
+  return e;
+}
+
+bool stopRequested(const Context& c) { return c.obs && c.obs->stopRequested && c.obs->stopRequested(); }
+
+// Records one evaluation (index = out->history.size()).
+void record(Context& c, const std::vector<double>& x, const Evaluation& e, bool cached, double merit) {
+  EvaluationRecord r;
+  r.index = static_cast<int>(c.out->history.size());
+  r.x = x;
+  r.evaluation = e;
+  r.feasible = isFeasible(e);
+  r.cached = cached;
+  r.merit = merit;
+  if (!cached) ++c.out->simulations;
+  c.seen.emplace(bitsOf(x), e);
+  if (c.out->history.empty() || better(c, r, c.out->history[c.out->bestIndex])) {
+    c.out->bestIndex = r.index;
+    c.out->best = e;
+    c.out->x = x;
+    c.out->feasible = r.feasible;
+  }
+  if (c.obs && c.obs->onEvaluation) c.obs->onEvaluation(r);
+  EvaluationRecord light = r;
+  light.evaluation.cases.clear();  // the history keeps numbers, not per-case detail
+  c.out->history.push_back(std::move(light));
+  c.out->evaluations = r.index;
+}
+
+double objectiveCallback(unsigned n, const double* u, double* grad, void* data) {
+  Context& c = *static_cast<Context*>(data);
+  if (grad)
+    for (unsigned i = 0; i < n; ++i) grad[i] = 0;  // derivative-free algorithms only (checkAlgorithm)
+  if (c.stopped || stopRequested(c)) {
+    c.stopped = true;
+    c.opt->force_stop();
+    return kFailValue;
+  }
+  const std::vector<double> x = physical(c, u);
+  bool cached = false;
+  const Evaluation e = evaluateCached(c, x, &cached);
+  if (!cached && stopRequested(c)) {  // interrupted in the middle: not a result of the design
+    c.stopped = true;
+    c.opt->force_stop();
+    return kFailValue;
+  }
+  Point pt = scaledPoint(c, e);
+  const double merit = c.penalised ? pt.fhat + c.a->penalty * violation(pt.ghat) : pt.fhat;
+  c.lastU.assign(u, u + n);
+  c.last = pt;
+  record(c, x, e, cached, merit);
+  return merit;
+}
+
+void constraintCallback(unsigned m, double* result, unsigned n, const double* u, double* grad, void* data) {
+  Context& c = *static_cast<Context*>(data);
+  if (grad)
+    for (unsigned i = 0; i < m * n; ++i) grad[i] = 0;
+  if (c.lastU.size() != n || !std::equal(u, u + n, c.lastU.begin())) {
+    // NLopt asked for the constraints of a point before its objective: evaluate it now (it is
+    // recorded when the objective is asked for; the cache makes that free).
+    const std::vector<double> x = physical(c, u);
+    bool cached = false;
+    Evaluation e = evaluateCached(c, x, &cached);
+    if (!cached) c.seen.emplace(bitsOf(x), e);
+    c.lastU.assign(u, u + n);
+    c.last = scaledPoint(c, e);
+  }
+  for (unsigned j = 0; j < m; ++j) result[j] = c.last.ghat[j];
+}
+
+}  // namespace
+
+ConstraintHandling constraintHandling(const std::string& a) {
+  if (nativeConstraints(a)) return ConstraintHandling::Native;
+  if (startsWith(a, "LN_")) return ConstraintHandling::AugmentedLagrangian;
+  return ConstraintHandling::Penalty;
+}
+
+std::string describeConstraintHandling(const std::string& a, double penalty) {
+  switch (constraintHandling(a)) {
+    case ConstraintHandling::Native: return "NLopt inequality constraints";
+    case ConstraintHandling::AugmentedLagrangian: return "augmented Lagrangian (NLopt LN_AUGLAG around " + a + ")";
+    default: {
+      char b[32];
+      std::snprintf(b, sizeof b, "%g", penalty);
+      return std::string("exact L1 penalty, weight ") + b;
+    }
+  }
+}
+
+bool isFeasible(const Evaluation& e) {
+  if (!e.ok || !std::isfinite(e.objective)) return false;
+  for (double g : e.constraints)
+    if (!(g <= 0)) return false;
+  return true;
+}
+
+std::vector<std::uint64_t> bitsOf(const std::vector<double>& x) {
+  std::vector<std::uint64_t> b(x.size());
+  for (size_t i = 0; i < x.size(); ++i) std::memcpy(&b[i], &x[i], sizeof(double));
+  return b;
+}
+
+std::string checkAlgorithm(const std::string& name, const std::string& local) {
+  const nlopt_algorithm a = nlopt_algorithm_from_string(name.c_str());
+  if (a < 0)
+    return "'" + name + "' is not an NLopt algorithm (e.g. LN_COBYLA, LN_BOBYQA, LN_SBPLX, LN_NELDERMEAD, "
+           "GN_DIRECT_L, GN_CRS2_LM, GN_ISRES, GN_MLSL_LDS)";
+  if (startsWith(name, "LD_") || startsWith(name, "GD_"))
+    return "'" + name + "' needs gradients; drop tests give none: use a derivative-free LN_ or GN_ algorithm";
+  if (name == "LN_NEWUOA") return "'LN_NEWUOA' ignores bounds: use LN_NEWUOA_BOUND or LN_BOBYQA";
+  if (!local.empty()) {
+    if (!needsLocal(name)) return "local optimiser '" + local + "' is only used by MLSL and AUGLAG algorithms, not " + name;
+    const nlopt_algorithm l = nlopt_algorithm_from_string(local.c_str());
+    if (l < 0) return "local optimiser '" + local + "' is not an NLopt algorithm";
+    if (!startsWith(local, "LN_") || local == "LN_NEWUOA" || needsLocal(local))
+      return "local optimiser '" + local + "' must be a bounded derivative-free local algorithm (e.g. LN_BOBYQA, LN_SBPLX)";
+  }
+  return "";
+}
+
+std::string describeResult(int code, bool* converged) {
+  bool conv = false;
+  std::string s;
+  switch (code) {
+    case NLOPT_SUCCESS: s = "converged: the algorithm's own stopping rule"; conv = true; break;
+    case NLOPT_STOPVAL_REACHED: s = "stopped: stopval reached"; break;
+    case NLOPT_FTOL_REACHED: s = "converged: ftol_rel reached"; conv = true; break;
+    case NLOPT_XTOL_REACHED: s = "converged: xtol_rel reached"; conv = true; break;
+    case NLOPT_MAXEVAL_REACHED: s = "stopped: maxeval reached"; break;
+    case NLOPT_MAXTIME_REACHED: s = "stopped: maxtime reached"; break;
+    case NLOPT_FORCED_STOP: s = "stopped: interrupted (forced stop)"; break;
+    case NLOPT_ROUNDOFF_LIMITED: s = "stopped: roundoff limited (no further progress possible)"; break;
+    case NLOPT_OUT_OF_MEMORY: s = "failed: out of memory"; break;
+    case NLOPT_INVALID_ARGS: s = "failed: invalid arguments"; break;
+    default: s = "failed: NLopt failure"; break;
+  }
+  if (converged) *converged = conv;
+  return s;
+}
+
+OptimizationResult runOptimizer(const Problem& p, const AlgorithmSettings& a, const Observer& obs,
+                                const EvaluationCache* cache) {
+  const auto t0 = std::chrono::steady_clock::now();
+  OptimizationResult out;
+  const unsigned n = static_cast<unsigned>(p.variables.size());
+  Context c;
+  c.p = &p;
+  c.a = &a;
+  c.obs = &obs;
+  c.resume = cache;
+  c.out = &out;
+  const ConstraintHandling mode = p.constraintNames.empty() ? ConstraintHandling::None : constraintHandling(a.name);
+  c.penalised = mode == ConstraintHandling::Penalty;
+  const bool wrap = mode == ConstraintHandling::AugmentedLagrangian;
+  for (const auto& v : p.variables) {
+    c.x0.push_back(v.initial);
+    c.u0.push_back(clamp01(toScaled(v, v.initial)));
+  }
+  out.x0 = c.x0;
+
+  nlopt::srand(a.seed);  // always: stochastic algorithms and MLSL repeat bit for bit
+
+  // The initial design (record 0) also fixes the objective scale.
+  {
+    bool cached = false;
+    const Evaluation e = evaluateCached(c, c.x0, &cached);
+    out.initial = e;
+    c.fscale = p.objectiveScale > 0 ? p.objectiveScale
+               : (e.ok && std::isfinite(e.objective) && e.objective != 0) ? std::abs(e.objective)
+                                                                          : 1.0;
+    out.objectiveScale = c.fscale;
+    const Point pt = scaledPoint(c, e);
+    record(c, c.x0, e, cached, c.penalised ? pt.fhat + a.penalty * violation(pt.ghat) : pt.fhat);
+  }
+
+  std::string error;
+  if (std::string rule = checkAlgorithm(a.name, a.local); !rule.empty()) error = rule;
+  if (error.empty() && !stopRequested(c)) {
+    try {
+      nlopt::opt opt(wrap ? "LN_AUGLAG" : a.name.c_str(), n);
+      c.opt = &opt;
+      opt.set_lower_bounds(std::vector<double>(n, 0.0));
+      opt.set_upper_bounds(std::vector<double>(n, 1.0));
+      opt.set_min_objective(objectiveCallback, &c);
+      if (!c.penalised && !p.constraintNames.empty())
+        opt.add_inequality_mconstraint(constraintCallback, &c, std::vector<double>(p.constraintNames.size(), 0.0));
+      if (a.maxeval > 0) opt.set_maxeval(a.maxeval);
+      if (a.maxtime > 0) opt.set_maxtime(a.maxtime);
+      if (a.xtolRel > 0) {
+        opt.set_xtol_rel(a.xtolRel);
+        opt.set_xtol_abs(std::vector<double>(n, a.xtolRel));  // the box has width 1
+      }
+      if (a.ftolRel > 0) opt.set_ftol_rel(a.ftolRel);
+      if (a.initialStep > 0) opt.set_initial_step(std::vector<double>(n, a.initialStep));
+      if (wrap) {  // the algorithm solves the augmented-Lagrangian subproblems
+        nlopt::opt local(a.name.c_str(), n);
+        if (a.xtolRel > 0) {
+          local.set_xtol_rel(a.xtolRel);
+          local.set_xtol_abs(std::vector<double>(n, a.xtolRel));
+        }
+        if (a.ftolRel > 0) local.set_ftol_rel(a.ftolRel);
+        if (!(a.xtolRel > 0) && !(a.ftolRel > 0)) local.set_ftol_rel(1e-6);
+        if (a.initialStep > 0) local.set_initial_step(std::vector<double>(n, a.initialStep));
+        opt.set_local_optimizer(local);
+      } else if (needsLocal(a.name)) {
+        nlopt::opt local(a.local.empty() ? "LN_BOBYQA" : a.local.c_str(), n);
+        if (a.xtolRel > 0) {
+          local.set_xtol_rel(a.xtolRel);
+          local.set_xtol_abs(std::vector<double>(n, a.xtolRel));
+        }
+        if (a.ftolRel > 0) local.set_ftol_rel(a.ftolRel);
+        if (!(a.xtolRel > 0) && !(a.ftolRel > 0)) local.set_ftol_rel(1e-6);
+        opt.set_local_optimizer(local);
+      }
+      std::vector<double> u = c.u0;
+      double f = 0;
+      try {
+        opt.optimize(u, f);
+      } catch (const nlopt::forced_stop&) {
+      } catch (const nlopt::roundoff_limited&) {
+      } catch (const std::bad_alloc&) {
+        error = "out of memory";
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+      out.nloptCode = static_cast<int>(opt.last_optimize_result());
+      if (c.stopped) out.nloptCode = NLOPT_FORCED_STOP;
+      c.opt = nullptr;
+    } catch (const std::exception& e) {
+      error = e.what();
+      out.nloptCode = NLOPT_FAILURE;
+      c.opt = nullptr;
+    }
+  } else if (error.empty()) {
+    out.nloptCode = NLOPT_FORCED_STOP;
+  } else {
+    out.nloptCode = NLOPT_INVALID_ARGS;
+  }
+  const char* nm = nlopt_result_to_string(static_cast<nlopt_result>(out.nloptCode));
+  out.nloptName = std::string("NLOPT_") + (nm ? nm : "UNKNOWN");
+  out.reason = describeResult(out.nloptCode, &out.converged);
+  if (!error.empty() && out.nloptCode < 0) out.reason += " (" + error + ")";
+  out.wallTime = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace lg::optim
