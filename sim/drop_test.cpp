@@ -152,7 +152,6 @@ class DropObserver {
     ++steps_;
   }
 
-  template <class S> void onEvent(const Model<S>&, const State<S>&, Workspace<S>&, int) {}
   bool stopRequested() const { return opt_.stop && (steps_ % 64 == 0) && opt_.stop(); }
 
   void finish(const State<double>& s, Workspace<double>& w) {

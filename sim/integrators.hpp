@@ -108,7 +108,6 @@ static constexpr double e[7] = {71.0 / 57600, 0, -71.0 / 16695, 71.0 / 1920, -17
 struct NoObserver {
   template <class S> void onStart(const Model<S>&, const State<S>&, Workspace<S>&) {}
   template <class S> void onStep(const Model<S>&, const State<S>&, Workspace<S>&, const DenseOutput<S>&) {}
-  template <class S> void onEvent(const Model<S>&, const State<S>&, Workspace<S>&, int) {}
   bool stopRequested() const { return false; }
 };
 
@@ -269,7 +268,7 @@ template <class S> class Integrator {
   bool stepDopri(double h, double& hNext, RunStatus& st) {
     const Settings& cfg = m_.settings;
     auto& k = w_.stages;
-    const int ny = m_.ny(), nErr = m_.nx() + m_.nv();
+    const int nErr = m_.nx() + m_.nv();  // the dissipated-energy states are not error-controlled
     k[0] = w_.ydot;
     for (int attempt = 0; attempt < 60; ++attempt) {
       w_.y0 = s_.y;

@@ -43,6 +43,12 @@ struct StageTimer {
   std::array<long, kStageCount> calls{};
 };
 
+// One term of J M^-1 J^T: A(row, col) += J_k(side) . W_l(side) (see assembleA).
+struct PairTerm {
+  int row, col, k, l;
+  unsigned char sideK, sideL;  // 0: body i block, 1: body j block
+};
+
 // What the last multiplier solve reports.
 struct SolveReport {
   int iterations = 0;       // Gauss-Seidel sweeps (0 for the direct solve)
@@ -68,6 +74,8 @@ template <class S> struct Workspace {
   VecX<S> g0, g1, g2, gtmp;          // event functions at step start / end / trials
   VecX<S> fTmp, lamTmp;              // scratch for event location
   std::vector<char> candidate;       // per row: touching stop considered by a contact solve
+  std::vector<int> pairList;         // the row list the pair terms were built for
+  std::vector<PairTerm> pairs;       // terms of J M^-1 J^T for that list
   SolveReport report;
   StageTimer timer;
   long rhsEvaluations = 0;
@@ -92,6 +100,8 @@ template <class S> struct Workspace {
     fTmp = VecX<S>::Zero(m.ny());
     lamTmp = VecX<S>::Zero(R);
     candidate.assign(R, 0);
+    pairList.reserve(R);
+    pairs.reserve(static_cast<size_t>(2 * R * (R + 1)));
   }
   Kins<S> kins() const { return {kin.data(), static_cast<int>(kin.size()) - 1}; }
 };

@@ -5,7 +5,8 @@
 //   sdot  = -e . (u_B - u_C),  e = (B - C)/|B - C|                          [m/s]
 //   p_1   = p_01 / (1 - s F / Omega_0)^n                                    [Pa]
 //   P_a   = (p_1 - p_atm) F                          gas (p_atm = 0 as in the article)
-//         + mu p_1 F sgn_eps(sdot)                   Coulomb friction, sgn regularised:
+//         + mu (p_1 - p_atm) F sgn_eps(sdot)         Coulomb friction, proportional to the gas force
+//                                                     (the seals carry p_1 - p_atm), sgn regularised:
 //                                                     sgn_eps(v) = v / sqrt(v^2 + eps^2)
 //         + xi_1 rho F^3   sdot|sdot| / (2 f_1^2)    main orifice (f_1 constant or f_1(s) table)
 //         + xi_2 rho F_2^3 sdot|sdot| / (2 f_2^2)    rebound orifice (only if the scene declares f_2)
@@ -69,7 +70,7 @@ template <class S> struct ShockAbsorber {
     const S F = area();
     r.p1 = p01 / pow(S(1) - r.s * F / Omega0, n);
     r.gas = (r.p1 - pAtm) * F;
-    r.friction = mu * r.p1 * F * smoothSign(r.sdot, frictionVelocity);
+    r.friction = mu * (r.p1 - pAtm) * F * smoothSign(r.sdot, frictionVelocity);
     const S fa = mainOrifice(r.s);
     r.orifice1 = xi1 * rho * F * F * F * signedSquare(r.sdot) / (S(2) * fa * fa);
     r.orifice2 = S(0);

@@ -3,6 +3,7 @@
 
 #include <csv.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -411,6 +412,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       s.xi2 = r.has("f2") ? r.positive("xi2") : (r.has("xi2") ? r.positive("xi2") : 0.0);
       s.mu = r.nonNegative("mu", 0.0);
       s.pAtm = r.nonNegative("p_atm", 0.0);
+      if (!(s.pAtm < s.p01)) r.fail("p_atm", "value " + fmt(s.pAtm) + " must be < p01 = " + fmt(s.p01) + " (the gas must push the rod out)");
       s.frictionVelocity = r.positive("friction_velocity", 1e-3);
       if (s.f1Table) {
         // The table must cover every stroke the strut can reach: up to a "no nearer" stop between the
@@ -528,12 +530,50 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   return sc;
 }
 
+namespace {
+// The key of the statement a TOML syntax error at 'line' (1-based) belongs to: the left-hand side of
+// the nearest assignment at or above it (a multi-line array continues its first line's statement), or
+// the header on the error line itself; "" if none. toml++ reports where it noticed the error only.
+std::string syntaxErrorKey(const std::string& text, int line) {
+  std::vector<std::string> lines;
+  {
+    std::istringstream in(text);
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+  }
+  auto content = [&](int i) {  // line i without its comment, trimmed
+    std::string l = lines[i].substr(0, lines[i].find('#'));
+    const auto a = l.find_first_not_of(" \t\r"), b = l.find_last_not_of(" \t\r");
+    return a == std::string::npos ? std::string() : l.substr(a, b - a + 1);
+  };
+  auto openBracket = [](const std::string& l) { return std::count(l.begin(), l.end(), '[') > std::count(l.begin(), l.end(), ']'); };
+  for (int i = std::min(line, static_cast<int>(lines.size())) - 1; i >= 0; --i) {
+    const std::string l = content(i);
+    if (l.empty()) continue;
+    if (l[0] == '[') {
+      if (i != line - 1) return "";
+      int j = i - 1;
+      while (j >= 0 && content(j).empty()) --j;
+      if (j >= 0 && openBracket(content(j))) continue;  // a value above is still open
+      return l;
+    }
+    const auto eq = l.find('=');
+    if (eq != std::string::npos) {
+      std::string k = l.substr(0, eq);
+      k.erase(k.find_last_not_of(" \t") + 1);
+      return k;
+    }
+  }
+  return "";
+}
+}  // namespace
+
 Scene parseScene(const std::string& text, const std::string& file, const std::string& baseDir) {
   toml::table doc;
   try {
     doc = toml::parse(text, file);
   } catch (const toml::parse_error& e) {
-    throw InputError(file, static_cast<int>(e.source().begin.line), "", "TOML syntax: " + std::string(e.description()));
+    const int line = static_cast<int>(e.source().begin.line);
+    throw InputError(file, line, syntaxErrorKey(text, line), "TOML syntax: " + std::string(e.description()));
   }
   return buildScene(doc, file, baseDir);
 }

@@ -10,8 +10,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/Cholesky>
-
 #include "sim/core/state.hpp"
 
 namespace lg {
@@ -34,48 +32,71 @@ template <class S> void computeW(const Model<S>& m, Workspace<S>& w) {
   }
 }
 
-// A = J M^-1 J^T over work.list (n x n, top-left of work.A). Entry (a, c) sums over the bodies the two
-// rows share; rows with no common body give 0 without arithmetic (the block sparsity of the
-// constraint graph).
+// A = J M^-1 J^T over work.list (n x n, top-left of work.A). Entry (a, c) sums J_k . W_l over the
+// bodies the two rows share; pairs with no common body are never visited. The list of contributing
+// (a, c, side) terms depends only on which rows are in the solve, so it is built when that list
+// changes (a contact mode switch) and replayed as a flat loop otherwise: the block sparsity of the
+// constraint graph without a branch per entry. Writes the lower triangle and mirrors it.
 template <class S> void assembleA(const Model<S>& m, Workspace<S>& w) {
   const int n = static_cast<int>(w.list.size());
-  for (int a = 0; a < n; ++a) {
-    const int k = w.list[a];
-    const RowInfo& rk = m.rowInfo[k];
-    const Row<S>& row = w.rows[k];
-    for (int c = a; c < n; ++c) {
-      const int l = w.list[c];
-      const RowInfo& rl = m.rowInfo[l];
-      S s(0);
-      if (rk.bi >= 0) {
-        if (rk.bi == rl.bi) s += row.Ji.dot(w.Wi[l]);
-        else if (rk.bi == rl.bj) s += row.Ji.dot(w.Wj[l]);
+  if (w.pairList != w.list) {  // rebuild the terms (mode switches only)
+    w.pairList = w.list;
+    w.pairs.clear();
+    for (int a = 0; a < n; ++a) {
+      const RowInfo& rk = m.rowInfo[w.list[a]];
+      for (int c = a; c < n; ++c) {
+        const RowInfo& rl = m.rowInfo[w.list[c]];
+        const int k = w.list[a], l = w.list[c];
+        if (rk.bi >= 0 && rk.bi == rl.bi) w.pairs.push_back({c, a, k, l, 0, 0});
+        if (rk.bi >= 0 && rk.bi == rl.bj) w.pairs.push_back({c, a, k, l, 0, 1});
+        if (rk.bj >= 0 && rk.bj == rl.bi) w.pairs.push_back({c, a, k, l, 1, 0});
+        if (rk.bj >= 0 && rk.bj == rl.bj) w.pairs.push_back({c, a, k, l, 1, 1});
       }
-      if (rk.bj >= 0) {
-        if (rk.bj == rl.bi) s += row.Jj.dot(w.Wi[l]);
-        else if (rk.bj == rl.bj) s += row.Jj.dot(w.Wj[l]);
-      }
-      w.A(c, a) = s;
-      w.A(a, c) = s;
     }
   }
+  for (int c = 0; c < n; ++c)
+    for (int a = c; a < n; ++a) w.A(a, c) = S(0);
+  for (const PairTerm& t : w.pairs) {
+    const Vec6<S>& J = t.sideK ? w.rows[t.k].Jj : w.rows[t.k].Ji;
+    const Vec6<S>& W = t.sideL ? w.Wj[t.l] : w.Wi[t.l];
+    w.A(t.row, t.col) += J.dot(W);
+  }
+  for (int c = 0; c < n; ++c)
+    for (int a = c + 1; a < n; ++a) w.A(c, a) = w.A(a, c);
 }
 
-// In-place Cholesky factor (L L^T, Eigen's LLT on the n x n top-left block of M, no allocation), then
-// x = M^-1 x with the two triangular solves. Returns false if the block is not positive definite
-// (redundant or inconsistent rows).
+// In-place Cholesky factor L L^T of the n x n top-left block of M (lower triangle; column-oriented,
+// the inner loops contiguous), then x = M^-1 x by the two triangular solves. No allocation. Returns
+// false if the block is not positive definite (redundant or inconsistent rows).
 template <class S> bool ldltFactor(MatX<S>& M, int n) {
-  if (n == 0) return true;
-  Eigen::Ref<MatX<S>> block(M.topLeftCorner(n, n));
-  Eigen::LLT<Eigen::Ref<MatX<S>>> llt(block);
-  return llt.info() == Eigen::Success;
+  for (int j = 0; j < n; ++j) {
+    S* colj = &M(0, j);
+    for (int k = 0; k < j; ++k) {
+      const S* colk = &M(0, k);
+      const S ljk = colk[j];
+      for (int i = j; i < n; ++i) colj[i] -= colk[i] * ljk;
+    }
+    if (!(value(colj[j]) > 0)) return false;
+    const S d = sqrt(colj[j]);
+    colj[j] = d;
+    const S inv = S(1) / d;
+    for (int i = j + 1; i < n; ++i) colj[i] *= inv;
+  }
+  return true;
 }
 template <class S> void ldltSolve(const MatX<S>& M, int n, VecX<S>& x) {
-  if (n == 0) return;
-  const auto L = M.topLeftCorner(n, n).template triangularView<Eigen::Lower>();
-  auto xs = x.head(n);
-  L.solveInPlace(xs);
-  L.transpose().solveInPlace(xs);
+  for (int j = 0; j < n; ++j) {  // L y = x (column sweep)
+    const S* col = &M(0, j);
+    x[j] /= col[j];
+    const S xj = x[j];
+    for (int i = j + 1; i < n; ++i) x[i] -= col[i] * xj;
+  }
+  for (int j = n - 1; j >= 0; --j) {  // L^T z = y (dot with column j)
+    const S* col = &M(0, j);
+    S s = x[j];
+    for (int i = j + 1; i < n; ++i) s -= col[i] * x[i];
+    x[j] = s / col[j];
+  }
 }
 
 // Solves A lam = b over work.list with every row as an equality. A is assembled by the caller;

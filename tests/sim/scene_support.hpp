@@ -1,0 +1,83 @@
+// Helpers shared by the drop-test, scene and CLI tests: loading the shipped scenes, editing a scene
+// document (as a design study would) and rebuilding it, temporary directories, reading files.
+//
+// Include order: the sim headers pull in glog (through ceres), whose CHECK macro replaces Catch's if it
+// comes later; Catch is included here after them. Test files include this header (or other sim headers)
+// before anything that includes Catch.
+#pragma once
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "sim/drop_test.hpp"
+#include "sim/engine.hpp"
+#include "sim/io/results.hpp"
+
+#include <catch2/catch.hpp>
+
+namespace lgtest {
+
+inline std::string sourcePath(const std::string& rel) { return std::string(LG_SOURCE_DIR) + "/" + rel; }
+inline std::string binPath(const std::string& name) { return std::string(LG_BIN_DIR) + "/" + name; }
+
+inline std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+inline void writeFile(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+// A fresh, empty directory under the system temp dir (removed by the destructor).
+struct TempDir {
+  std::filesystem::path path;
+  explicit TempDir(const std::string& tag) {
+    std::random_device rd;
+    path = std::filesystem::temp_directory_path() /
+           ("lg_" + tag + "_" + std::to_string(rd()) + "_" + std::to_string(rd()));
+    std::filesystem::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  std::string operator/(const std::string& name) const { return (path / name).string(); }
+};
+
+// The named table of array 'arr' ("body", "joint", "stop", "force", "case") of a scene document.
+inline toml::table& element(toml::table& doc, const std::string& arr, const std::string& name) {
+  toml::array* a = doc[arr].as_array();
+  REQUIRE(a);
+  for (auto& e : *a) {
+    toml::table* t = e.as_table();
+    if (t && t->get("name") && t->get("name")->value<std::string>() == name) return *t;
+  }
+  FAIL("no [[" << arr << "]] named " << name);
+  throw std::logic_error("unreachable");
+}
+
+// A shipped scene's document, for editing.
+inline toml::table shippedDoc(const std::string& rel) { return toml::parse_file(sourcePath(rel)); }
+
+// Builds a scene from an edited document; relative tables resolve against the shipped data/ folder.
+inline lg::Scene build(const toml::table& doc, const std::string& name = "edited.toml") {
+  return lg::buildScene(doc, name, sourcePath("data"));
+}
+
+inline const lg::DropCase& findCase(const lg::Scene& sc, const std::string& name) {
+  for (const auto& c : sc.cases)
+    if (c.name == name) return c;
+  FAIL("scene " << sc.name << " has no case " << name);
+  throw std::logic_error("unreachable");
+}
+
+inline double relDiff(double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); }
+
+}  // namespace lgtest

@@ -1,0 +1,128 @@
+// The `simulate` program end to end (apps/simulate.cpp, sim/io/results.cpp): the files it writes,
+// columns that follow the scene, plots, and thread-count independence.
+#include "scene_support.hpp"  // sim headers, then Catch (see there)
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <regex>
+
+namespace {
+
+int simulate(const std::string& args) {
+  const std::string cmd = "'" + lgtest::binPath("simulate") + "' " + args + " --quiet >/dev/null 2>&1";
+  const int st = std::system(cmd.c_str());
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+std::string firstLine(const std::string& text) { return text.substr(0, text.find('\n')); }
+std::string q(const std::string& s) { return "'" + s + "'"; }
+
+}  // namespace
+
+TEST_CASE("simulate writes a CSV per case and summary.json", "[cli]") {
+  lgtest::TempDir dir("cli");
+  const std::string out = dir / "out";
+  REQUIRE(simulate(q(lgtest::sourcePath("data/seed_gear.toml")) + " --out " + q(out) + " --threads 2") == 0);
+  const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/seed_gear.toml"));
+  const std::string summary = lgtest::readFile(out + "/summary.json");
+  for (const auto& c : sc.cases) {
+    INFO(c.name);
+    const std::string csv = lgtest::readFile(out + "/" + c.name + ".csv");
+    CHECK(firstLine(csv) == "t,P_y,s,h,delta,P_a,F_extension,F_bottoming,violation");
+    // rows: 9 numbers each, time from 0 to the case's duration
+    const auto rows = std::count(csv.begin(), csv.end(), '\n') - 1;
+    CHECK(rows > 100);
+    const std::string second = csv.substr(csv.find('\n') + 1, csv.find('\n', csv.find('\n') + 1) - csv.find('\n') - 1);
+    CHECK(std::count(second.begin(), second.end(), ',') == 8);
+    CHECK(second.rfind("0,", 0) == 0);
+    const std::string last = csv.substr(csv.rfind('\n', csv.size() - 2) + 1);
+    CHECK(std::stod(last) == Approx(c.duration));
+    CHECK(summary.find("\"" + c.name + "\": {") != std::string::npos);
+  }
+  for (const char* key : {"peak_load_N", "t_peak_s", "load_factor", "stroke_max_m", "h_max_m", "tyre_deflection_max_m",
+                          "efficiency", "strut_efficiency", "energy_absorbed_J", "constraint_violation_max", "steps",
+                          "wall_time_s"}) {
+    INFO(key);
+    // once per case, each with a number
+    const std::regex re("\"" + std::string(key) + "\": -?[0-9]");
+    CHECK(std::distance(std::sregex_iterator(summary.begin(), summary.end(), re), std::sregex_iterator()) ==
+          static_cast<long>(sc.cases.size()));
+  }
+  // The summary holds what runCase computes (17 significant digits).
+  const auto limit = lg::runCase(sc, lgtest::findCase(sc, "limit")).metrics;
+  CHECK(summary.find("\"peak_load_N\": " + lg::jsonNumber(limit.peak_load_N)) != std::string::npos);
+  CHECK(summary.find("\"stroke_max_m\": " + lg::jsonNumber(limit.stroke_max_m)) != std::string::npos);
+}
+
+TEST_CASE("simulate: the columns follow what the scene declares", "[cli]") {
+  // A wheel on the rig's guide: a tyre and an airframe, no strut and no stops.
+  lgtest::TempDir dir("cli_nostrut");
+  lgtest::writeFile(dir / "wheel.toml", R"(
+[scene]
+name = "wheel_drop"
+airframe = "wheel"
+[[body]]
+name = "wheel"
+mass = 100.0
+inertia = [1.0, 1.0, 1.0]
+position = [0.0, 0.3, 0.0]
+[[joint]]
+name = "rig"
+type = "prismatic"
+body1 = "wheel"
+body2 = "ground"
+point = [0.0, 0.3, 0.0]
+axis = [0.0, 1.0, 0.0]
+[[force]]
+type = "gravity"
+[[force]]
+type = "tyre"
+body = "wheel"
+radius = 0.3
+K = 1.0e5
+delta_max = 0.1
+[[case]]
+name = "drop"
+sink_speed = 1.0
+duration = 0.3
+)");
+  const std::string out = dir / "out";
+  REQUIRE(simulate(q(dir / "wheel.toml") + " --out " + q(out)) == 0);
+  CHECK(firstLine(lgtest::readFile(out + "/drop.csv")) == "t,P_y,h,delta,violation");
+  CHECK(lgtest::readFile(out + "/summary.json").find("\"drop\"") != std::string::npos);
+}
+
+TEST_CASE("simulate --plots draws PNGs when gnuplot is present", "[cli][plots]") {
+  if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
+    WARN("gnuplot is not installed: plot test skipped");
+    return;
+  }
+  lgtest::TempDir dir("cli_plots");
+  const std::string out = dir / "out";
+  REQUIRE(simulate(q(lgtest::sourcePath("data/seed_gear.toml")) + " --case limit --plots --out " + q(out)) == 0);
+  const std::string png = lgtest::readFile(out + "/limit.png");
+  REQUIRE(png.size() > 1000);
+  CHECK(png.substr(1, 3) == "PNG");
+}
+
+TEST_CASE("simulate: results do not depend on the thread count", "[cli][determinism]") {
+  lgtest::TempDir dir("cli_threads");
+  const std::string scene = q(lgtest::sourcePath("data/seed_gear.toml"));
+  REQUIRE(simulate(scene + " --threads 1 --out " + q(dir / "t1")) == 0);
+  REQUIRE(simulate(scene + " --threads 2 --out " + q(dir / "t2")) == 0);
+  const std::regex wall("\"wall_time_s\": [^\n]*");
+  int files = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir.path / "t1")) {
+    const std::string name = e.path().filename().string();
+    INFO(name);
+    std::string a = lgtest::readFile(e.path().string()), b = lgtest::readFile(dir / ("t2/" + name));
+    if (name == "summary.json") {
+      a = std::regex_replace(a, wall, "\"wall_time_s\": X");
+      b = std::regex_replace(b, wall, "\"wall_time_s\": X");
+    }
+    CHECK(!a.empty());
+    CHECK(a == b);
+    ++files;
+  }
+  CHECK(files == 6);  // 5 cases + summary.json
+}
