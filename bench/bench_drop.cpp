@@ -44,6 +44,8 @@ int main(int argc, char** argv) {
   std::vector<Setting> settings;
   for (double r : {1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8})
     settings.push_back({"dopri5 direct", lg::MultiplierSolver::Direct, lg::IntegratorKind::DormandPrince, r});
+  for (double r : {1e-1, 1e-2, 1e-3, 1e-4})
+    settings.push_back({"ros2 direct", lg::MultiplierSolver::Direct, lg::IntegratorKind::Rosenbrock, r});
   for (double h : {1e-3, 5e-4, 2e-4, 1e-4})
     settings.push_back({"rk4 direct", lg::MultiplierSolver::Direct, lg::IntegratorKind::RK4, h});
   for (double h : {1e-4, 3e-5, 1e-5})
@@ -56,7 +58,7 @@ int main(int argc, char** argv) {
     auto& cfg = sc.model.settings;
     cfg.solver = s.solver;
     cfg.integrator = s.integrator;
-    if (s.integrator == lg::IntegratorKind::DormandPrince) {
+    if (s.integrator == lg::IntegratorKind::DormandPrince || s.integrator == lg::IntegratorKind::Rosenbrock) {
       cfg.rtol = s.tol;
       cfg.atol = s.tol * 1e-2;
     } else {

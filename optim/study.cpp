@@ -4,139 +4,15 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include <nlopt.h>
 
 #include "optim/evaluator.hpp"
 #include "optim/optimizer.hpp"
+#include "sim/io/toml_reader.hpp"
 
 namespace lg::optim {
-namespace {
-
-std::string fmt(double v) {
-  std::ostringstream o;
-  o.precision(10);
-  o << v;
-  return o.str();
-}
-
-int lineOf(const toml::node& n) { return static_cast<int>(n.source().begin.line); }
-
-// One table of the study file: file/line-aware errors and a closed set of keys.
-class Reader {
- public:
-  Reader(const toml::table& t, std::string file, std::string prefix)
-      : t_(t), file_(std::move(file)), prefix_(std::move(prefix)) {}
-
-  int line() const { return optim::lineOf(t_); }
-  int lineOf(const std::string& key) const {
-    const toml::node* n = t_.get(key);
-    return n ? optim::lineOf(*n) : line();
-  }
-  std::string full(const std::string& key) const { return prefix_.empty() ? key : prefix_ + "." + key; }
-  [[noreturn]] void fail(const std::string& key, const std::string& rule) const {
-    throw InputError(file_, lineOf(key), full(key), rule);
-  }
-  bool has(const std::string& key) const { return t_.contains(key); }
-  const toml::node* get(const std::string& key) const { return t_.get(key); }
-
-  void allowOnly(std::initializer_list<const char*> keys) const {
-    std::set<std::string> ok(keys.begin(), keys.end());
-    for (const auto& [k, v] : t_) {
-      const std::string key(k.str());
-      if (!ok.count(key)) {
-        std::string list;
-        for (const auto& a : ok) list += (list.empty() ? "" : ", ") + a;
-        throw InputError(file_, optim::lineOf(v), full(key), "unknown key (allowed here: " + list + ")");
-      }
-    }
-  }
-  double number(const std::string& key) const {
-    const toml::node* n = t_.get(key);
-    if (!n) fail(key, "missing required number");
-    return toNumber(*n, key);
-  }
-  double number(const std::string& key, double def) const {
-    const toml::node* n = t_.get(key);
-    return n ? toNumber(*n, key) : def;
-  }
-  double positive(const std::string& key, double def) const {
-    const double v = number(key, def);
-    if (!(v > 0)) fail(key, "value " + fmt(v) + " must be > 0");
-    return v;
-  }
-  double nonNegative(const std::string& key, double def) const {
-    const double v = number(key, def);
-    if (!(v >= 0)) fail(key, "value " + fmt(v) + " must be >= 0");
-    return v;
-  }
-  long long integer(const std::string& key, long long def) const {
-    const toml::node* n = t_.get(key);
-    if (!n) return def;
-    if (!n->is_integer()) fail(key, "must be an integer");
-    return *n->value<int64_t>();
-  }
-  std::string string(const std::string& key) const {
-    const toml::node* n = t_.get(key);
-    if (!n) fail(key, "missing required string");
-    if (!n->is_string()) fail(key, "must be a string");
-    return std::string(*n->value<std::string>());
-  }
-  std::string string(const std::string& key, const std::string& def) const { return has(key) ? string(key) : def; }
-  bool boolean(const std::string& key, bool def) const {
-    const toml::node* n = t_.get(key);
-    if (!n) return def;
-    if (!n->is_boolean()) fail(key, "must be true or false");
-    return *n->value<bool>();
-  }
-  double toNumber(const toml::node& n, const std::string& key) const {
-    double v = 0;
-    if (n.is_floating_point()) v = *n.value<double>();
-    else if (n.is_integer()) v = static_cast<double>(*n.value<int64_t>());
-    else fail(key, "must be a number");
-    if (!std::isfinite(v)) fail(key, "value must be finite");
-    return v;
-  }
-
- private:
-  const toml::table& t_;
-  std::string file_, prefix_;
-};
-
-std::vector<const toml::table*> tablesOf(const toml::table& doc, const std::string& key, const std::string& file) {
-  std::vector<const toml::table*> out;
-  const toml::node* n = doc.get(key);
-  if (!n) return out;
-  const toml::array* a = n->as_array();
-  if (!a) throw InputError(file, lineOf(*n), key, "must be an array of tables [[" + key + "]]");
-  for (const auto& e : *a) {
-    const toml::table* t = e.as_table();
-    if (!t) throw InputError(file, lineOf(e), key, "each entry must be a table [[" + key + "]]");
-    out.push_back(t);
-  }
-  return out;
-}
-
-const toml::table* tableOf(const toml::table& doc, const std::string& key, const std::string& file) {
-  const toml::node* n = doc.get(key);
-  if (!n) return nullptr;
-  const toml::table* t = n->as_table();
-  if (!t) throw InputError(file, lineOf(*n), key, "must be a table [" + key + "]");
-  return t;
-}
-
-std::string readText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, "", "cannot open the study file");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-}  // namespace
 
 // ---- scaling ---------------------------------------------------------------------------------------
 double toPhysical(const Variable& v, double u) {
@@ -173,7 +49,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
   }
   Study s;
   s.file = file;
-  Reader top(doc, file, "");
+  TomlReader top(doc, file, "");
   top.allowOnly({"name", "description", "scene", "variable", "case", "objective", "constraints", "algorithm"});
   s.name = top.string("name", std::filesystem::path(file).stem().string());
   (void)top.string("description", "");
@@ -197,7 +73,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
   if (vars.empty()) throw InputError(file, 0, "variable", "a study needs at least one [[variable]]");
   std::set<std::string> paths;
   for (size_t i = 0; i < vars.size(); ++i) {
-    Reader r(*vars[i], file, "variable[" + std::to_string(i) + "]");
+    TomlReader r(*vars[i], file, "variable[" + std::to_string(i) + "]");
     r.allowOnly({"path", "lower", "upper", "initial", "log"});
     Variable v;
     v.line = r.line();
@@ -234,7 +110,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
   if (cases.empty()) throw InputError(file, 0, "case", "a study needs at least one [[case]]");
   std::set<std::string> caseNames;
   for (size_t i = 0; i < cases.size(); ++i) {
-    Reader r(*cases[i], file, "case[" + std::to_string(i) + "]");
+    TomlReader r(*cases[i], file, "case[" + std::to_string(i) + "]");
     r.allowOnly({"name", "sink_speed", "lift_ratio", "duration", "masses", "weight"});
     StudyCase c;
     c.line = r.line();
@@ -267,7 +143,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
     if (const toml::node* mn = r.get("masses")) {
       const toml::table* mt = mn->as_table();
       if (!mt) r.fail("masses", "must be a table of body = mass [kg]");
-      Reader mr(*mt, file, r.full("masses"));
+      TomlReader mr(*mt, file, r.full("masses"));
       for (const auto& [k, v] : *mt) {
         const std::string body(k.str());
         if (s.scene.model.bodyIndex(body) < 0) mr.fail(body, "'" + body + "' is not a body of the scene");
@@ -279,7 +155,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
 
   // [objective]
   if (const toml::table* t = tableOf(doc, "objective", file)) {
-    Reader r(*t, file, "objective");
+    TomlReader r(*t, file, "objective");
     r.allowOnly({"kind", "aggregate"});
     const std::string kind = r.string("kind", "min_peak_load");
     if (kind == "min_peak_load") s.objective.kind = ObjectiveKind::MinPeakLoad;
@@ -293,7 +169,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
 
   // [constraints]
   if (const toml::table* t = tableOf(doc, "constraints", file)) {
-    Reader r(*t, file, "constraints");
+    TomlReader r(*t, file, "constraints");
     r.allowOnly({"stroke_max", "stroke_margin", "tyre_deflection_max", "static_stroke", "no_bottoming", "rebound_max"});
     Constraints& c = s.constraints;
     if (r.has("stroke_max")) c.strokeMax = r.positive("stroke_max", 0.0);
@@ -326,7 +202,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
 
   // [algorithm]
   if (const toml::table* t = tableOf(doc, "algorithm", file)) {
-    Reader r(*t, file, "algorithm");
+    TomlReader r(*t, file, "algorithm");
     r.allowOnly({"name", "local", "maxeval", "maxtime", "xtol_rel", "ftol_rel", "seed", "penalty", "initial_step"});
     AlgorithmSettings& a = s.algorithm;
     a.name = r.string("name", a.name);
@@ -354,7 +230,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
 Study loadStudy(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, 0, "", "study file does not exist");
-  const std::string text = readText(path);
+  const std::string text = readText(path, "study file");
   std::string base = std::filesystem::path(path).parent_path().string();
   if (base.empty()) base = ".";
   return parseStudy(text, path, base);

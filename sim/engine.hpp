@@ -114,6 +114,53 @@ template <class S> bool multipliers(const Model<S>& m, const std::vector<char>& 
   return ok;
 }
 
+// ---- stage: velocity stiffness (for the linearly implicit integrator) --------------------------
+// For each damping term G, c of the force elements: u = M_c^-1 G^T, the constrained acceleration
+// response to a unit generalised force along G^T:
+//   u = M^-1 G^T - M^-1 J^T mu,   J M^-1 J^T mu = J M^-1 G^T   (the enforced rows of this evaluation)
+// so that d(dV/dt)/dV ~ -sum c u G. Reuses the multipliers' factor (direct) or iterates on A (GS).
+template <class S> void dampingResponse(const Model<S>& m, Workspace<S>& w) {
+  const Kins<S> K = w.kins();
+  for (size_t f = 0; f < m.forces.size(); ++f)
+    std::visit([&](const auto& e) { e.damping(K, w.damping.data() + m.dampingOffset[f]); }, m.forces[f].type);
+  const int N = m.nBodies(), n = static_cast<int>(w.list.size());
+  for (int e = 0; e < m.nDamping; ++e) {
+    const DampingTerm<S>& d = w.damping[e];
+    for (auto& z : w.zb) z.setZero();
+    auto addBody = [&](int b, const Vec6<S>& G) {
+      if (b < 0) return;
+      w.zb[b].template head<3>() += w.kin[b].invMass * G.template head<3>();
+      w.zb[b].template tail<3>() += w.kin[b].IwInv * G.template tail<3>();
+    };
+    addBody(d.bi, d.Gi);
+    addBody(d.bj, d.Gj);
+    for (int a = 0; a < n; ++a) w.dampRhs[a] = rowDot(m, w, w.list[a], w.zb);
+    if (m.settings.solver == MultiplierSolver::Direct) {
+      for (int a = 0; a < n; ++a) w.dampMu[a] = w.dampRhs[a];
+      ldltSolve(w.A, n, w.dampMu);
+    } else {  // Gauss-Seidel on the assembled A
+      for (int a = 0; a < n; ++a) w.dampMu[a] = S(0);
+      for (int it = 0; it < m.settings.gaussSeidelIterations; ++it) {
+        double worst = 0;
+        for (int a = 0; a < n; ++a) {
+          S r = w.dampRhs[a];
+          for (int c = 0; c < n; ++c) r -= w.A(a, c) * w.dampMu[c];
+          w.dampMu[a] += r / w.A(a, a);
+          worst = std::max(worst, std::abs(value(r)));
+        }
+        if (worst <= 1e-12 * (1.0 + std::abs(value(w.dampRhs.head(n).cwiseAbs().maxCoeff())))) break;
+      }
+    }
+    for (int a = 0; a < n; ++a) {
+      const int k = w.list[a];
+      const RowInfo& ri = m.rowInfo[k];
+      if (ri.bi >= 0) w.zb[ri.bi] -= w.Wi[k] * w.dampMu[a];
+      if (ri.bj >= 0) w.zb[ri.bj] -= w.Wj[k] * w.dampMu[a];
+    }
+    for (int b = 0; b < N; ++b) w.U.col(e).template segment<6>(6 * b) = w.zb[b];
+  }
+}
+
 // ---- the right-hand side: dy/dt ------------------------------------------------------------------
 // Runs kinematics, forces, rows, multipliers; writes ydot (x rates, accelerations, dissipation rates).
 template <class S> bool evaluate(const Model<S>& m, const VecX<S>& y, const std::vector<char>& active,
@@ -137,6 +184,7 @@ template <class S> bool evaluate(const Model<S>& m, const VecX<S>& y, const std:
     if (ri.bj >= 0) ydot.template segment<6>(7 * N + 6 * ri.bj) += w.Wj[k] * w.lam[a];
   }
   ydot.tail(m.nDissipation) = w.dissipation;
+  if (m.settings.integrator == IntegratorKind::Rosenbrock && m.nDamping > 0 && ok) dampingResponse(m, w);
   return ok;
 }
 

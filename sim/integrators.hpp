@@ -133,6 +133,7 @@ template <class S> class Integrator {
       const double remaining = tEnd - value(s_.t);
       bool ok;
       if (cfg.integrator == IntegratorKind::DormandPrince) ok = stepDopri(std::min(h, remaining), h, st);
+      else if (cfg.integrator == IntegratorKind::Rosenbrock) ok = stepRosenbrock(std::min(h, remaining), h, st);
       else ok = stepFixed(std::min(cfg.step, remaining), st);
       if (!ok) return st;
       ++st.steps;
@@ -344,6 +345,141 @@ template <class S> class Integrator {
       }
       // Smooth step: first same as last.
       w_.ydot = k[6];
+      w_.g0 = w_.g1;
+      forceOutputs();
+      if (!afterStep(st)) {
+        fail(st, "projection failed");
+        return false;
+      }
+      return true;
+    }
+    fail(st, "too many rejected steps");
+    return false;
+  }
+
+  // r <- W^-1 r with W = I - gamma h J_W and J_W = -sum_e c_e u_e G_e on the velocity block (the
+  // damping terms saved at the step's start; identity elsewhere). Woodbury:
+  //   (I + U C G)^-1 r = r - U C (I + G U C)^-1 G r,   C = gamma h diag(c).
+  void solveW(double gh, VecX<S>& r) {
+    const int k = m_.nDamping, nx = m_.nx();
+    if (k == 0) return;
+    auto Gdot = [&](const DampingTerm<S>& d, const VecX<S>& v) {  // G . (velocity part of v)
+      S s(0);
+      if (d.bi >= 0) s += d.Gi.dot(v.template segment<6>(nx + 6 * d.bi));
+      if (d.bj >= 0) s += d.Gj.dot(v.template segment<6>(nx + 6 * d.bj));
+      return s;
+    };
+    auto GdotU = [&](const DampingTerm<S>& d, int f) {
+      S s(0);
+      if (d.bi >= 0) s += d.Gi.dot(w_.U0.col(f).template segment<6>(6 * d.bi));
+      if (d.bj >= 0) s += d.Gj.dot(w_.U0.col(f).template segment<6>(6 * d.bj));
+      return s;
+    };
+    for (int e = 0; e < k; ++e) {
+      w_.smallT[e] = Gdot(w_.damping0[e], r);
+      for (int f = 0; f < k; ++f)
+        w_.smallM(e, f) = (e == f ? S(1) : S(0)) + GdotU(w_.damping0[e], f) * S(gh) * w_.damping0[f].c;
+    }
+    // small dense solve (k is the number of dampers), Gaussian elimination with partial pivoting
+    for (int j = 0; j < k; ++j) {
+      int p = j;
+      for (int i = j + 1; i < k; ++i)
+        if (std::abs(value(w_.smallM(i, j))) > std::abs(value(w_.smallM(p, j)))) p = i;
+      if (p != j) {
+        w_.smallM.row(p).swap(w_.smallM.row(j));
+        std::swap(w_.smallT[p], w_.smallT[j]);
+      }
+      for (int i = j + 1; i < k; ++i) {
+        const S f = w_.smallM(i, j) / w_.smallM(j, j);
+        for (int c = j; c < k; ++c) w_.smallM(i, c) -= f * w_.smallM(j, c);
+        w_.smallT[i] -= f * w_.smallT[j];
+      }
+    }
+    for (int j = k - 1; j >= 0; --j) {
+      S s = w_.smallT[j];
+      for (int c = j + 1; c < k; ++c) s -= w_.smallM(j, c) * w_.smallT[c];
+      w_.smallT[j] = s / w_.smallM(j, j);
+    }
+    for (int f = 0; f < k; ++f) r.segment(nx, m_.nv()) -= (S(gh) * w_.damping0[f].c * w_.smallT[f]) * w_.U0.col(f);
+  }
+
+  // One step of ROS2 (Verwer, Spee, Blom & Hundsdorfer 1999), a linearly implicit Rosenbrock-W
+  // method: second order for any approximation of the Jacobian, L-stable with gamma = 1 + 1/sqrt(2).
+  //   W k1 = f(y_n),   W k2 = f(y_n + h k1) - 2 k1,   y_n+1 = y_n + 3/2 h k1 + 1/2 h k2,
+  // W = I - gamma h J_W with J_W the force elements' velocity stiffness (rank 1 per damper, see
+  // DampingTerm), so the orifice damping and the regularised friction no longer cap the step.
+  // Error estimate against the embedded first-order y_n + h k1; dense output cubic Hermite.
+  bool stepRosenbrock(double h, double& hNext, RunStatus& st) {
+    const Settings& cfg = m_.settings;
+    auto& k = w_.stages;
+    const int nErr = m_.nx() + m_.nv();
+    const double gamma = 1.0 + 1.0 / std::sqrt(2.0);
+    k[0] = w_.ydot;  // f(y_n)
+    w_.U0 = w_.U;    // the damping terms at y_n (the last evaluation was at s.y)
+    w_.damping0 = w_.damping;
+    for (int attempt = 0; attempt < 60; ++attempt) {
+      w_.y0 = s_.y;
+      bool ok = true;
+      {
+        ScopedStage timer(w_.timer, kIntegrate, cfg.profile);
+        k[1] = k[0];
+        solveW(gamma * h, k[1]);
+        w_.ytmp = w_.y0 + S(h) * k[1];
+      }
+      ok = evaluate(m_, w_.ytmp, s_.active, s_.lambda, w_, k[2]) && ok;
+      double err = 0;
+      {
+        ScopedStage timer(w_.timer, kIntegrate, cfg.profile);
+        k[2] -= S(2) * k[1];
+        solveW(gamma * h, k[2]);
+        w_.y1 = w_.y0 + S(1.5 * h) * k[1] + S(0.5 * h) * k[2];
+        for (int i = 0; i < nErr; ++i) {
+          const double e = 0.5 * h * value(k[1][i] + k[2][i]);
+          const double sc = cfg.atol + cfg.rtol * std::max(std::abs(value(w_.y0[i])), std::abs(value(w_.y1[i])));
+          err += (e / sc) * (e / sc);
+        }
+        err = std::sqrt(err / nErr);
+      }
+      if (!ok || !allFinite(w_.y1) || !std::isfinite(err)) {
+        if (h < 1e-12) return failNonFinite(st);
+        h *= 0.25;
+        ++st.rejected;
+        continue;
+      }
+      if (err > 1.0) {
+        h *= std::max(0.2, 0.9 / std::sqrt(err));
+        ++st.rejected;
+        if (h < 1e-14) {
+          fail(st, "step size underflow");
+          return false;
+        }
+        continue;
+      }
+      hNext = std::min(cfg.maxStep, h * std::min(4.0, std::max(0.2, 0.9 / std::sqrt(std::max(err, 1e-10)))));
+      // Accept: f, multipliers, damping terms and event functions at the step's end.
+      w_.yerr = k[0];
+      s_.y = w_.y1;
+      s_.t = s_.t + S(h);
+      if (!evaluate(m_, s_.y, s_.active, s_.lambda, w_, w_.ydot) || !allFinite(w_.ydot)) return failNonFinite(st);
+      eventFunctions(m_, s_, s_.lambda, w_, w_.g1);
+      dense_.kind = DenseOutput<S>::Hermite;
+      dense_.t0 = s_.t - S(h);
+      dense_.h = h;
+      dense_.y0 = &w_.y0;
+      dense_.y1 = &w_.y1;
+      dense_.f0 = &w_.yerr;
+      dense_.f1 = &k[3];
+      k[3] = w_.ydot;
+      bool hadEvent = false;
+      if (!handleEvents(dense_, st, hadEvent)) {
+        fail(st, "contact or projection solve failed after an event");
+        return false;
+      }
+      if (hadEvent) {
+        if (!refresh()) return failNonFinite(st);
+        hNext = std::max(h * 0.1, 1e-8);
+        return true;
+      }
       w_.g0 = w_.g1;
       forceOutputs();
       if (!afterStep(st)) {

@@ -72,4 +72,14 @@ template <class S> struct Wrenches {
   }
 };
 
+// A force element's velocity stiffness as a rank-1 term: its force law P(sdot) acts through the
+// generalised force Q = -P G^T, with sdot = G V = Gi.(v_i, w_i) + Gj.(v_j, w_j) a relative rate, so
+// dQ/dV = -c G^T G with c = dP/dsdot >= 0. The linearly implicit integrator (ros2) treats exactly
+// this part implicitly: the orifice damping and the regularised friction that make a drop stiff.
+template <class S> struct DampingTerm {
+  int bi = kGround, bj = kGround;
+  Vec6<S> Gi = Vec6<S>::Zero(), Gj = Vec6<S>::Zero();
+  S c = S(0);  // [N s/m]
+};
+
 }  // namespace lg

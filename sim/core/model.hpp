@@ -11,7 +11,7 @@
 namespace lg {
 
 enum class MultiplierSolver { Direct, GaussSeidel };
-enum class IntegratorKind { SemiImplicitEuler, RK4, DormandPrince };
+enum class IntegratorKind { SemiImplicitEuler, RK4, DormandPrince, Rosenbrock };
 enum class Stabilization { Projection, Baumgarte, None };
 
 struct Settings {
@@ -42,8 +42,8 @@ template <class S> struct Model {
   // Derived once by finalize(): the row table and the sizes of the state.
   std::vector<RowInfo> rowInfo;   // one per scalar constraint row
   std::vector<int> rowOffset;     // first row of each constraint
-  std::vector<int> dissipationOffset, eventOffset, outputOffset;  // per force element
-  int nRows = 0, nDissipation = 0, nForceEvents = 0, nOutputs = 0;
+  std::vector<int> dissipationOffset, eventOffset, outputOffset, dampingOffset;  // per force element
+  int nRows = 0, nDissipation = 0, nForceEvents = 0, nOutputs = 0, nDamping = 0;
   std::vector<std::string> outputNames;  // "<element>.<channel>"
 
   int nBodies() const { return static_cast<int>(bodies.size()); }
@@ -63,9 +63,12 @@ template <class S> struct Model {
     dissipationOffset.clear();
     eventOffset.clear();
     outputOffset.clear();
+    dampingOffset.clear();
     outputNames.clear();
-    nDissipation = nForceEvents = nOutputs = 0;
+    nDissipation = nForceEvents = nOutputs = nDamping = 0;
     for (const auto& f : forces) {
+      dampingOffset.push_back(nDamping);
+      nDamping += f.dampingTerms();
       dissipationOffset.push_back(nDissipation);
       eventOffset.push_back(nForceEvents);
       outputOffset.push_back(nOutputs);

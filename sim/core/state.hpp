@@ -75,6 +75,11 @@ template <class S> struct Workspace {
   VecX<S> fTmp, lamTmp;              // scratch for event location
   std::vector<char> candidate;       // per row: touching stop considered by a contact solve
   std::vector<int> pairList;         // the row list the pair terms were built for
+  std::vector<DampingTerm<S>> damping, damping0;  // velocity stiffness of the force elements (ros2)
+  MatX<S> U, U0;                     // M_c^-1 G^T per damping term (constrained response), nv x nDamping
+  std::vector<Vec6<S>> zb;           // per-body scratch
+  VecX<S> dampRhs, dampMu, smallT;   // scratch of the response and of the W solve
+  MatX<S> smallM;                    // (I + G U C), nDamping x nDamping
   std::vector<PairTerm> pairs;       // terms of J M^-1 J^T for that list
   SolveReport report;
   StageTimer timer;
@@ -101,6 +106,13 @@ template <class S> struct Workspace {
     lamTmp = VecX<S>::Zero(R);
     candidate.assign(R, 0);
     pairList.reserve(R);
+    damping.assign(m.nDamping, DampingTerm<S>{});
+    damping0 = damping;
+    U = U0 = MatX<S>::Zero(m.nv(), m.nDamping);
+    zb.assign(N, Vec6<S>::Zero());
+    dampRhs = dampMu = VecX<S>::Zero(R);
+    smallT = VecX<S>::Zero(m.nDamping);
+    smallM = MatX<S>::Zero(m.nDamping, m.nDamping);
     pairs.reserve(static_cast<size_t>(2 * R * (R + 1)));
   }
   Kins<S> kins() const { return {kin.data(), static_cast<int>(kin.size()) - 1}; }

@@ -13,6 +13,7 @@ namespace lg {
 
 template <class S> struct ConstantForce {
   static constexpr int kDissipation = 0;
+  static constexpr int kDamping = 0;
   static constexpr int kEvents = 0;
   int body = kGround;
   Vec3<S> force;  // [N] world
@@ -20,6 +21,7 @@ template <class S> struct ConstantForce {
   void apply(const Kins<S>& /*K*/, const Wrenches<S>& W, S*) const { W.addForce(body, force); }
   S stored(const Kins<S>& K) const { return -force.dot(K[body].r); }
   void events(const Kins<S>&, S*) const {}
+  void damping(const Kins<S>&, DampingTerm<S>*) const {}
   static std::vector<std::string> outputNames() { return {}; }
   void outputs(const Kins<S>&, S*) const {}
   template <class T> ConstantForce<T> cast() const { return {body, castVec<T>(force)}; }

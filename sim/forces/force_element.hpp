@@ -25,6 +25,7 @@ template <class S> struct ForceElement {
   S liftRatio = S(0);       // for a lift element: the current ratio L
 
   int dissipationChannels() const { return std::visit([](const auto& f) { return f.kDissipation; }, type); }
+  int dampingTerms() const { return std::visit([](const auto& f) { return f.kDamping; }, type); }
   int eventCount() const { return std::visit([](const auto& f) { return f.kEvents; }, type); }
   std::vector<std::string> outputNames() const {
     return std::visit([](const auto& f) { return f.outputNames(); }, type);

@@ -10,6 +10,7 @@ namespace lg {
 
 template <class S> struct Gravity {
   static constexpr int kDissipation = 0;
+  static constexpr int kDamping = 0;
   static constexpr int kEvents = 0;
   Vec3<S> g;  // [m/s^2] gravitational acceleration, world
 
@@ -22,6 +23,7 @@ template <class S> struct Gravity {
     return U;
   }
   void events(const Kins<S>&, S*) const {}
+  void damping(const Kins<S>&, DampingTerm<S>*) const {}
   static std::vector<std::string> outputNames() { return {}; }
   void outputs(const Kins<S>&, S*) const {}
   template <class T> Gravity<T> cast() const { return {castVec<T>(g)}; }

@@ -28,6 +28,7 @@ namespace lg {
 
 template <class S> struct ShockAbsorber {
   static constexpr int kDissipation = 1;
+  static constexpr int kDamping = 1;
   static constexpr int kEvents = 0;
   int bi = kGround;  // rod
   int bj = kGround;  // cylinder
@@ -93,6 +94,27 @@ template <class S> struct ShockAbsorber {
     return p01 * Omega0 / (n - S(1)) * (pow(S(1) - r.s * F / Omega0, S(1) - n) - S(1)) - pAtm * F * r.s;
   }
   void events(const Kins<S>&, S*) const {}
+  // sdot = G V with G_rod = -(e, a_i x e), G_cyl = (e, a_j x e); c = dP_a/dsdot =
+  // mu (p_1 - p_atm) F eps^2 / (sdot^2 + eps^2)^(3/2) + 2 (k_1 + k_2) |sdot|.
+  void damping(const Kins<S>& K, DampingTerm<S>* d) const {
+    const Eval r = eval(K);
+    d->bi = bi;
+    d->bj = bj;
+    d->Gi << -r.e, -r.a_i.cross(r.e);
+    d->Gj << r.e, r.a_j.cross(r.e);
+    const S F = area();
+    const S v2 = r.sdot * r.sdot, e2 = S(frictionVelocity * frictionVelocity);
+    const S q = v2 + e2;
+    S c = mu * (r.p1 - pAtm) * F * e2 / (q * sqrt(q));
+    const S fa = mainOrifice(r.s);
+    const S speed = sqrt(v2);
+    c += xi1 * rho * F * F * F * speed / (fa * fa);
+    if (isPositive(f2)) {
+      const S F2 = annularArea();
+      c += xi2 * rho * F2 * F2 * F2 * speed / (f2 * f2);
+    }
+    d->c = c;
+  }
   std::vector<std::string> outputNames() const {
     std::vector<std::string> names{"s", "s_dot", "p_1", "P_a", "P_gas", "P_friction", "P_orifice1"};
     if (value(f2) > 0) names.push_back("P_orifice2");

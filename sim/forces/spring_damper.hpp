@@ -13,6 +13,7 @@ namespace lg {
 
 template <class S> struct SpringDamper {
   static constexpr int kDissipation = 1;
+  static constexpr int kDamping = 1;
   static constexpr int kEvents = 0;
   int bi = kGround, bj = kGround;
   Vec3<S> rho_i, rho_j;  // [m] attachment points in the bodies
@@ -43,6 +44,15 @@ template <class S> struct SpringDamper {
     return k * x * x / S(2);
   }
   void events(const Kins<S>&, S*) const {}
+  // Ldot = G V with G_i = -(e, a_i x e), G_j = (e, a_j x e); dT/dLdot = c.
+  void damping(const Kins<S>& K, DampingTerm<S>* d) const {
+    const Eval r = eval(K);
+    d->bi = bi;
+    d->bj = bj;
+    d->Gi << -r.e, -r.a_i.cross(r.e);
+    d->Gj << r.e, r.a_j.cross(r.e);
+    d->c = c;
+  }
   static std::vector<std::string> outputNames() { return {"L", "tension"}; }
   void outputs(const Kins<S>& K, S* out) const {
     const Eval r = eval(K);

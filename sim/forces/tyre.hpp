@@ -15,6 +15,7 @@ namespace lg {
 
 template <class S> struct Tyre {
   static constexpr int kDissipation = 0;
+  static constexpr int kDamping = 0;
   static constexpr int kEvents = 1;
   int body = kGround;
   Vec3<S> rho;        // [m] wheel centre in the body frame
@@ -42,6 +43,7 @@ template <class S> struct Tyre {
     return K * (d * d / S(2) + alpha * d * d * d * d / (S(4) * deltaMax * deltaMax));
   }
   void events(const Kins<S>& K_, S* g) const { g[0] = deflection(K_); }
+  void damping(const Kins<S>&, DampingTerm<S>*) const {}
   static std::vector<std::string> outputNames() { return {"delta", "P_t"}; }
   void outputs(const Kins<S>& K_, S* out) const {
     out[0] = deflection(K_);

@@ -6,149 +6,22 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <set>
 #include <sstream>
 
 #include "sim/engine.hpp"
+#include "sim/io/toml_reader.hpp"
 
 namespace lg {
 namespace {
-
-std::string fmt(double v) {
-  std::ostringstream o;
-  o.precision(10);
-  o << v;
-  return o.str();
-}
-
-// Reading one table with file/line-aware errors and a closed set of keys.
-class Reader {
- public:
-  Reader(const toml::table& t, std::string file, std::string prefix)
-      : t_(t), file_(std::move(file)), prefix_(std::move(prefix)) {}
-
-  int line() const { return static_cast<int>(t_.source().begin.line); }
-  int lineOf(const std::string& key) const {
-    const toml::node* n = t_.get(key);
-    return n ? static_cast<int>(n->source().begin.line) : line();
-  }
-  std::string full(const std::string& key) const { return prefix_.empty() ? key : prefix_ + "." + key; }
-  [[noreturn]] void fail(const std::string& key, const std::string& rule) const {
-    throw InputError(file_, lineOf(key), full(key), rule);
-  }
-  bool has(const std::string& key) const { return t_.contains(key); }
-
-  void allowOnly(std::initializer_list<const char*> keys) const {
-    std::set<std::string> ok(keys.begin(), keys.end());
-    for (const auto& [k, v] : t_) {
-      const std::string key(k.str());
-      if (!ok.count(key)) {
-        std::string list;
-        for (const auto& a : ok) list += (list.empty() ? "" : ", ") + a;
-        throw InputError(file_, static_cast<int>(v.source().begin.line), full(key),
-                         "unknown key (allowed here: " + list + ")");
-      }
-    }
-  }
-
-  double number(const std::string& key) const {
-    const toml::node* n = t_.get(key);
-    if (!n) fail(key, "missing required number");
-    return toNumber(*n, key);
-  }
-  double number(const std::string& key, double def) const {
-    const toml::node* n = t_.get(key);
-    return n ? toNumber(*n, key) : def;
-  }
-  double positive(const std::string& key) const { return checkPositive(key, number(key)); }
-  double positive(const std::string& key, double def) const {
-    return has(key) ? checkPositive(key, number(key)) : def;
-  }
-  double nonNegative(const std::string& key, double def) const {
-    const double v = number(key, def);
-    if (!(v >= 0)) fail(key, "value " + fmt(v) + " must be >= 0");
-    return v;
-  }
-  std::string string(const std::string& key) const {
-    const toml::node* n = t_.get(key);
-    if (!n) fail(key, "missing required string");
-    if (!n->is_string()) fail(key, "must be a string");
-    return std::string(*n->value<std::string>());
-  }
-  std::string string(const std::string& key, const std::string& def) const { return has(key) ? string(key) : def; }
-  bool boolean(const std::string& key, bool def) const {
-    const toml::node* n = t_.get(key);
-    if (!n) return def;
-    if (!n->is_boolean()) fail(key, "must be true or false");
-    return *n->value<bool>();
-  }
-  Vec3<double> vec3(const std::string& key) const {
-    const toml::node* n = t_.get(key);
-    if (!n) fail(key, "missing required vector [x, y, z]");
-    const toml::array* a = n->as_array();
-    if (!a || a->size() != 3) fail(key, "must be a vector of 3 numbers [x, y, z]");
-    Vec3<double> v;
-    for (int i = 0; i < 3; ++i) v[i] = toNumber(*a->get(i), key);
-    return v;
-  }
-  Vec3<double> vec3(const std::string& key, const Vec3<double>& def) const { return has(key) ? vec3(key) : def; }
-  Vec3<double> unitVec3(const std::string& key) const { return normalize(key, vec3(key)); }
-  Vec3<double> unitVec3(const std::string& key, const Vec3<double>& def) const {
-    return has(key) ? unitVec3(key) : def;
-  }
-  Vec3<double> normalize(const std::string& key, const Vec3<double>& v) const {
-    if (!(v.norm() > 1e-12)) fail(key, "direction must be a non-zero vector");
-    return v.normalized();
-  }
-
- private:
-  double toNumber(const toml::node& n, const std::string& key) const {
-    double v;
-    if (n.is_floating_point()) v = *n.value<double>();
-    else if (n.is_integer()) v = static_cast<double>(*n.value<int64_t>());
-    else fail(key, "must be a number");
-    if (!std::isfinite(v)) fail(key, "value must be finite");
-    return v;
-  }
-  double checkPositive(const std::string& key, double v) const {
-    if (!(v > 0)) fail(key, "value " + fmt(v) + " must be > 0");
-    return v;
-  }
-  const toml::table& t_;
-  std::string file_, prefix_;
-};
 
 struct Pose {
   Vec3<double> r = Vec3<double>::Zero();
   Mat3<double> R = Mat3<double>::Identity();
 };
 
-// Rows of the array-of-tables 'key' (absent: none). Errors if it is not an array of tables.
-std::vector<const toml::table*> tablesOf(const toml::table& doc, const std::string& key, const std::string& file) {
-  std::vector<const toml::table*> out;
-  const toml::node* n = doc.get(key);
-  if (!n) return out;
-  const toml::array* a = n->as_array();
-  if (!a) throw InputError(file, static_cast<int>(n->source().begin.line), key, "must be an array of tables [[" + key + "]]");
-  for (const auto& e : *a) {
-    const toml::table* t = e.as_table();
-    if (!t) throw InputError(file, static_cast<int>(e.source().begin.line), key, "each entry must be a table [[" + key + "]]");
-    out.push_back(t);
-  }
-  return out;
-}
-
-std::string readText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, "", "cannot open the file");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // Reads a two-column CSV table (header "stroke,area" or any two names) through fast-cpp-csv-parser.
-std::shared_ptr<const Table1D> readTable(const std::string& path, const Reader& r, const std::string& key) {
+std::shared_ptr<const Table1D> readTable(const std::string& path, const TomlReader& r, const std::string& key) {
   std::vector<double> x, y;
   try {
     io::CSVReader<2, io::trim_chars<' ', '\t'>, io::no_quote_escape<','>, io::throw_on_overflow, io::single_and_empty_line_comment<'#'>> in(path);
@@ -189,7 +62,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   // [scene]
   std::string airframe;
   if (const toml::table* t = doc["scene"].as_table()) {
-    Reader r(*t, file, "scene");
+    TomlReader r(*t, file, "scene");
     r.allowOnly({"name", "airframe", "description"});
     sc.name = r.string("name", "scene");
     airframe = r.string("airframe", "");
@@ -198,7 +71,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   }
   // [solver]
   if (const toml::table* t = doc["solver"].as_table()) {
-    Reader r(*t, file, "solver");
+    TomlReader r(*t, file, "solver");
     r.allowOnly({"multipliers", "integrator", "stabilization", "rtol", "atol", "step", "max_step", "max_steps",
                  "projection_tolerance", "baumgarte_alpha", "baumgarte_beta", "gauss_seidel_iterations",
                  "gauss_seidel_tolerance", "contact_tolerance", "event_tolerance"});
@@ -211,7 +84,8 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     if (integ == "dopri5") s.integrator = IntegratorKind::DormandPrince;
     else if (integ == "rk4") s.integrator = IntegratorKind::RK4;
     else if (integ == "euler") s.integrator = IntegratorKind::SemiImplicitEuler;
-    else r.fail("integrator", "value '" + integ + "' must be \"dopri5\", \"rk4\" or \"euler\"");
+    else if (integ == "ros2") s.integrator = IntegratorKind::Rosenbrock;
+    else r.fail("integrator", "value '" + integ + "' must be \"dopri5\", \"ros2\", \"rk4\" or \"euler\"");
     const std::string stab = r.string("stabilization", "projection");
     if (stab == "projection") s.stabilization = Stabilization::Projection;
     else if (stab == "baumgarte") s.stabilization = Stabilization::Baumgarte;
@@ -233,7 +107,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   // [[body]]
   std::vector<Pose> poses;
   std::set<std::string> names;
-  auto uniqueName = [&](const Reader& r) {
+  auto uniqueName = [&](const TomlReader& r) {
     const std::string n = r.string("name");
     if (n.empty() || n == "ground") r.fail("name", "'" + n + "' is reserved or empty");
     if (!names.insert(n).second) r.fail("name", "'" + n + "' is already used by another element");
@@ -242,7 +116,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   const auto bodies = tablesOf(doc, "body", file);
   if (bodies.empty()) throw InputError(file, 0, "body", "a scene needs at least one [[body]]");
   for (size_t i = 0; i < bodies.size(); ++i) {
-    Reader r(*bodies[i], file, "body[" + std::to_string(i) + "]");
+    TomlReader r(*bodies[i], file, "body[" + std::to_string(i) + "]");
     r.allowOnly({"name", "mass", "inertia", "position", "x_axis", "z_axis", "quaternion"});
     Body<double> b;
     b.name = uniqueName(r);
@@ -273,7 +147,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     m.bodies.push_back(b);
     poses.push_back(p);
   }
-  auto bodyRef = [&](const Reader& r, const std::string& key, bool groundOk = true) {
+  auto bodyRef = [&](const TomlReader& r, const std::string& key, bool groundOk = true) {
     const std::string n = r.string(key);
     const int b = m.bodyIndex(n);
     if (b == kGround && groundOk) return b;
@@ -292,7 +166,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   const auto joints = tablesOf(doc, "joint", file);
   for (size_t i = 0; i < joints.size(); ++i) {
     const toml::table* t = joints[i];
-    Reader r(*t, file, "joint[" + std::to_string(i) + "]");
+    TomlReader r(*t, file, "joint[" + std::to_string(i) + "]");
     const std::string type = r.string("type");
     Constraint<double> c;
     c.name = r.has("name") ? uniqueName(r) : "joint" + std::to_string(i);
@@ -338,7 +212,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   // [[stop]]
   const auto stops = tablesOf(doc, "stop", file);
   for (size_t i = 0; i < stops.size(); ++i) {
-    Reader r(*stops[i], file, "stop[" + std::to_string(i) + "]");
+    TomlReader r(*stops[i], file, "stop[" + std::to_string(i) + "]");
     r.allowOnly({"name", "body1", "point1", "body2", "point2", "max_distance", "min_distance"});
     Constraint<double> c;
     c.name = uniqueName(r);
@@ -357,7 +231,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   Vec3<double> g = Vec3<double>::Zero();
   bool hasGravity = false;
   for (size_t i = 0; i < forcesT.size(); ++i) {
-    Reader r(*forcesT[i], file, "force[" + std::to_string(i) + "]");
+    TomlReader r(*forcesT[i], file, "force[" + std::to_string(i) + "]");
     const std::string type = r.string("type");
     ForceElement<double> f;
     f.name = r.has("name") ? uniqueName(r) : type;
@@ -462,7 +336,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     sc.up = -g / g.norm();
   }
   for (int li : sc.roles.lifts) {
-    Reader r(*forcesT[li], file, "force[" + std::to_string(li) + "]");
+    TomlReader r(*forcesT[li], file, "force[" + std::to_string(li) + "]");
     if (!hasGravity) r.fail("type", "a lift element needs a gravity element (lift = ratio * G * g)");
     const Vec3<double> dir = r.unitVec3("direction", sc.up);
     std::get<ConstantForce<double>>(m.forces[li].type).force = dir;  // unit direction until a case scales it
@@ -470,7 +344,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   // airframe: declared, else the body of the first lift element
   if (!airframe.empty()) {
     if (m.bodyIndex(airframe) < 0) {
-      Reader r(*doc["scene"].as_table(), file, "scene");
+      TomlReader r(*doc["scene"].as_table(), file, "scene");
       r.fail("airframe", "'" + airframe + "' is not a body of this scene");
     }
     sc.roles.airframe = airframe;
@@ -506,7 +380,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   const auto cases = tablesOf(doc, "case", file);
   std::set<std::string> caseNames;
   for (size_t i = 0; i < cases.size(); ++i) {
-    Reader r(*cases[i], file, "case[" + std::to_string(i) + "]");
+    TomlReader r(*cases[i], file, "case[" + std::to_string(i) + "]");
     r.allowOnly({"name", "sink_speed", "lift_ratio", "duration", "masses"});
     DropCase c;
     c.name = r.string("name");
@@ -518,7 +392,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     if (const toml::node* mn = cases[i]->get("masses")) {
       const toml::table* mt = mn->as_table();
       if (!mt) r.fail("masses", "must be a table of body = mass");
-      Reader mr(*mt, file, r.full("masses"));
+      TomlReader mr(*mt, file, r.full("masses"));
       for (const auto& [k, v] : *mt) {
         const std::string body(k.str());
         if (m.bodyIndex(body) < 0) mr.fail(body, "'" + body + "' is not a body of this scene");

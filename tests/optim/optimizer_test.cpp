@@ -141,7 +141,7 @@ TEST_CASE("optimizer: a stop request ends the run with the best design so far", 
   CHECK(std::isfinite(r.best.objective));
 }
 
-TEST_CASE("optimizer: same seed, same bits; a cache replays a run without evaluating", "[optim]") {
+TEST_CASE("optimizer: same seed, same bits, and a cache replays a run without evaluating", "[optim]") {
   AlgorithmSettings a = algo("GN_CRS2_LM", 200);
   a.seed = 42;
   const OptimizationResult r1 = runOptimizer(quadratic(), a);

@@ -96,7 +96,7 @@ TEST_CASE("study run: a short study is identical on 1 and 3 threads", "[optim][s
   CHECK(readFile(fs::path(a.outDir) / "history.csv").size() > 100);
 }
 
-TEST_CASE("study run: the shipped study improves the limit case within the constraints; best.toml reproduces it",
+TEST_CASE("study run: the shipped study improves the limit case within the constraints and best.toml reproduces it",
           "[optim][seed]") {
   const Study s = shippedStudy(30);
   RunOptions o;

@@ -340,3 +340,35 @@ TEST_CASE("efficiency integrals and the strut-force peak are exact to the integr
     CHECK(dPa < 2e-5);
   }
 }
+
+// ---- the linearly implicit integrator (ros2) -----------------------------------------------------
+// ROS2 treats the strut's velocity stiffness (orifices, regularised friction) implicitly: its step is
+// set by accuracy, not by the stiffness, and it converges to the same solution (second order).
+TEST_CASE("ros2: the seed gear's limit case converges to the reference, and cheaply in stiff phases",
+          "[drop_test][ros2]") {
+  lg::Scene sc = lg::loadScene(std::string(LG_SOURCE_DIR) + "/data/seed_gear.toml");
+  const lg::DropCase limit = sc.cases[2];
+  REQUIRE(limit.name == "limit");
+  const double ref = ref::simulateSeedGear(ref::SeedGearParams{}, limit.sinkSpeed, limit.liftRatio, limit.duration, 1e-10).peakLoad;
+  sc.model.settings.integrator = lg::IntegratorKind::Rosenbrock;
+  double previous = 1e300;
+  for (double rtol : {1e-3, 1e-4, 1e-5}) {
+    sc.model.settings.rtol = rtol;
+    sc.model.settings.atol = rtol * 1e-2;
+    const lg::CaseMetrics m = lg::runCase(sc, limit).metrics;
+    REQUIRE(m.ok);
+    const double err = std::abs(m.peak_load_N - ref) / ref;
+    INFO("rtol " << rtol << ": peak " << m.peak_load_N << " vs " << ref << ", steps " << m.steps);
+    CHECK(err < 10 * rtol);
+    CHECK(err < previous);  // error falls as the tolerance tightens
+    CHECK(m.energy_balance_error < 1e-3);
+    previous = err;
+  }
+  // Loose tolerance, large steps: stable (the explicit pair needs >300 steps here whatever its tolerance).
+  sc.model.settings.rtol = 1e-1;
+  sc.model.settings.atol = 1e-3;
+  const lg::CaseMetrics loose = lg::runCase(sc, limit).metrics;
+  REQUIRE(loose.ok);
+  CHECK(loose.steps < 200);
+  CHECK(std::abs(loose.peak_load_N - ref) / ref < 0.1);
+}

@@ -30,6 +30,51 @@ template <class... A> void report(const char* fmt, A... a) {
 
 inline lg::Scene inlineScene(const std::string& toml) { return lg::parseScene(toml, "inline.toml"); }
 
+// The double pendulum on revolute hinges about z (engine and multiplier-solver tests). Link 1: hinge
+// at the origin, CoM c1 = 0.4 below it, second hinge l1 = 0.8 below it; link 2: CoM c2 = 0.3 below the
+// second hinge. Hanging at rest in the scene.
+struct DP {
+  double m1 = 1.5, m2 = 1.0, c1 = 0.4, l1 = 0.8, c2 = 0.3, I1 = 0.09, I2 = 0.05;
+};
+inline constexpr const char* kDoublePendulum = R"(
+[solver]
+integrator = "dopri5"
+rtol = 1e-10
+atol = 1e-12
+
+[[body]]
+name = "link1"
+mass = 1.5
+inertia = [0.01, 0.08, 0.09]
+position = [0.0, -0.4, 0.0]
+
+[[body]]
+name = "link2"
+mass = 1.0
+inertia = [0.005, 0.04, 0.05]
+position = [0.0, -1.1, 0.0]
+
+[[joint]]
+name = "h1"
+type = "revolute"
+body1 = "link1"
+body2 = "ground"
+point = [0.0, 0.0, 0.0]
+axis = [0.0, 0.0, 1.0]
+
+[[joint]]
+name = "h2"
+type = "revolute"
+body1 = "link2"
+body2 = "link1"
+point = [0.0, -0.8, 0.0]
+axis = [0.0, 0.0, 1.0]
+
+[[force]]
+type = "gravity"
+g = [0.0, -9.80665, 0.0]
+)";
+
 // Unit quaternion of a rotation by angle about a unit axis.
 inline lg::Vec4<double> axisAngle(const lg::Vec3<double>& axis, double angle) {
   const lg::Vec3<double> u = axis.normalized();

@@ -64,7 +64,7 @@ TEST_CASE("shipped scenes load", "[scene]") {
   CHECK(tele.model.nRows == 5 + 6 + 5 + 5 + 2);
 }
 
-TEST_CASE("bad input names file, line and key; simulate exits with 2 and writes nothing", "[scene][input]") {
+TEST_CASE("bad input names file, line and key, and simulate exits with 2 and writes nothing", "[scene][input]") {
   const std::string seed = lgtest::readFile(lgtest::sourcePath("data/seed_gear.toml"));
   const std::string pin = lgtest::readFile(lgtest::sourcePath("data/seed_gear_metering_pin.toml"));
   const std::string leverMass = "mass = 16.0\n";

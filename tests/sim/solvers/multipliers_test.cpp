@@ -53,35 +53,11 @@ TEST_CASE("Gauss-Seidel and the direct solver agree on the seed gear", "[solvers
   CHECK(states == 5);
 }
 
-// The same on a small system with no mass ratio: a double pendulum (10 rows) converges in few sweeps
-// to the direct answer (measured: 40 sweeps, agreement 2e-16; asserted 1e-10 in under 1000 sweeps).
+// The same on a small system with no mass ratio: the engine tests' double pendulum (10 rows) converges
+// in few sweeps to the direct answer (measured: 40 sweeps, agreement 2e-16; asserted 1e-10 in under
+// 1000 sweeps).
 TEST_CASE("Gauss-Seidel and the direct solver agree on a double pendulum", "[solvers][multipliers]") {
-  const lg::Scene sc = lgtest::inlineScene(R"(
-[[body]]
-name = "link1"
-mass = 1.5
-inertia = [0.01, 0.08, 0.09]
-position = [0.0, -0.4, 0.0]
-[[body]]
-name = "link2"
-mass = 1.0
-inertia = [0.005, 0.04, 0.05]
-position = [0.0, -1.1, 0.0]
-[[joint]]
-type = "revolute"
-body1 = "link1"
-body2 = "ground"
-point = [0.0, 0.0, 0.0]
-axis = [0.0, 0.0, 1.0]
-[[joint]]
-type = "revolute"
-body1 = "link2"
-body2 = "link1"
-point = [0.0, -0.8, 0.0]
-axis = [0.0, 0.0, 1.0]
-[[force]]
-type = "gravity"
-)");
+  const lg::Scene sc = lgtest::inlineScene(lgtest::kDoublePendulum);
   lg::Model<double> mD = sc.model, mG = sc.model;
   mG.settings.solver = lg::MultiplierSolver::GaussSeidel;
   mG.settings.gaussSeidelIterations = 100000;
