@@ -45,7 +45,9 @@ int main(int argc, char** argv) {
   for (double r : {1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8})
     settings.push_back({"dopri5 direct", lg::MultiplierSolver::Direct, lg::IntegratorKind::DormandPrince, r});
   for (double r : {1e-1, 1e-2, 1e-3, 1e-4})
-    settings.push_back({"ros2 direct", lg::MultiplierSolver::Direct, lg::IntegratorKind::Rosenbrock, r});
+    settings.push_back({"ros2 direct", lg::MultiplierSolver::Direct, lg::IntegratorKind::Ros2, r});
+  for (double r : {1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 1e-4, 1e-5})
+    settings.push_back({"ros34pw2 direct", lg::MultiplierSolver::Direct, lg::IntegratorKind::Ros34pw2, r});
   for (double h : {1e-3, 5e-4, 2e-4, 1e-4})
     settings.push_back({"rk4 direct", lg::MultiplierSolver::Direct, lg::IntegratorKind::RK4, h});
   for (double h : {1e-4, 3e-5, 1e-5})
@@ -58,7 +60,7 @@ int main(int argc, char** argv) {
     auto& cfg = sc.model.settings;
     cfg.solver = s.solver;
     cfg.integrator = s.integrator;
-    if (s.integrator == lg::IntegratorKind::DormandPrince || s.integrator == lg::IntegratorKind::Rosenbrock) {
+    if (s.integrator == lg::IntegratorKind::DormandPrince || lg::isRosenbrock(s.integrator)) {
       cfg.rtol = s.tol;
       cfg.atol = s.tol * 1e-2;
     } else {

@@ -184,7 +184,7 @@ template <class S> bool evaluate(const Model<S>& m, const VecX<S>& y, const std:
     if (ri.bj >= 0) ydot.template segment<6>(7 * N + 6 * ri.bj) += w.Wj[k] * w.lam[a];
   }
   ydot.tail(m.nDissipation) = w.dissipation;
-  if (m.settings.integrator == IntegratorKind::Rosenbrock && m.nDamping > 0 && ok) dampingResponse(m, w);
+  if (w.needDampingResponse && m.nDamping > 0 && ok) dampingResponse(m, w);
   return ok;
 }
 

@@ -3,6 +3,8 @@
 //   semi-implicit Euler   V += h dV/dt(x, V);  x += h dx/dt(x, V_new)              (fixed step)
 //   RK4                   classical 4th order                                       (fixed step)
 //   Dormand-Prince 5(4)   embedded pair, error control, FSAL, 4th-order dense output (adaptive)
+//   ROS2, ROS34PW2        linearly implicit Rosenbrock-W methods of order 2 and 3 with embedded
+//                         error estimates (adaptive): the strut's velocity stiffness is implicit
 //
 // Between events the mode (which stops are enforced) is fixed and the right-hand side is smooth. An
 // event is: a free stop reaching contact (C crosses 0), an enforced stop whose multiplier would pull
@@ -104,6 +106,86 @@ static constexpr double e[7] = {71.0 / 57600, 0, -71.0 / 16695, 71.0 / 1920, -17
                                 -1.0 / 40};
 }  // namespace dopri
 
+// A Rosenbrock-W method given as (alpha, Gamma, b, b_hat) with Gamma_ii = gamma, stored in the
+// transformed form used by the step (Hairer & Wanner IV.7.25): A = alpha Gamma^-1,
+// C = diag(1/gamma) - Gamma^-1, m = b Gamma^-1, e = (b - b_hat) Gamma^-1.
+struct RosenbrockTableau {
+  int stages = 0, embeddedOrder = 0;
+  double gamma = 0;
+  double A[4][4] = {}, C[4][4] = {}, m[4] = {}, e[4] = {};
+
+  static RosenbrockTableau make(int s, int embeddedOrder, double gamma, const double (&alpha)[4][4],
+                                const double (&Gam)[4][4], const double (&b)[4], const double (&bhat)[4]) {
+    RosenbrockTableau t;
+    t.stages = s;
+    t.embeddedOrder = embeddedOrder;
+    t.gamma = gamma;
+    double G[4][4] = {}, Gi[4][4] = {};  // Gamma (lower triangular, gamma on the diagonal) and its inverse
+    for (int i = 0; i < s; ++i)
+      for (int j = 0; j < i; ++j) G[i][j] = Gam[i][j];
+    for (int i = 0; i < s; ++i) G[i][i] = gamma;
+    for (int i = 0; i < s; ++i) {  // forward substitution, column by column
+      Gi[i][i] = 1.0 / gamma;
+      for (int r = i + 1; r < s; ++r) {
+        double acc = 0;
+        for (int c = i; c < r; ++c) acc += G[r][c] * Gi[c][i];
+        Gi[r][i] = -acc / gamma;
+      }
+    }
+    for (int i = 0; i < s; ++i)
+      for (int j = 0; j < s; ++j) {
+        double a = 0;
+        for (int c = 0; c < s; ++c) a += alpha[i][c] * Gi[c][j];
+        t.A[i][j] = a;
+        t.C[i][j] = (i == j ? 1.0 / gamma : 0.0) - Gi[i][j];
+        if (j >= i) t.A[i][j] = t.C[i][j] = 0;  // strictly lower (the diagonal of C cancels exactly)
+      }
+    for (int j = 0; j < s; ++j) {
+      double mm = 0, ee = 0;
+      for (int c = 0; c < s; ++c) {
+        mm += b[c] * Gi[c][j];
+        ee += (b[c] - bhat[c]) * Gi[c][j];
+      }
+      t.m[j] = mm;
+      t.e[j] = ee;
+    }
+    return t;
+  }
+  // ROS2 (Verwer, Spee, Blom & Hundsdorfer 1999): order 2, L-stable, gamma = 1 + 1/sqrt(2); the
+  // embedded method is first order.
+  static const RosenbrockTableau& ros2() {
+    static const RosenbrockTableau t = [] {
+      const double g = 1.0 + 1.0 / std::sqrt(2.0);
+      const double alpha[4][4] = {{0}, {1.0}};
+      const double Gam[4][4] = {{0}, {-2.0 * g}};
+      const double b[4] = {0.5, 0.5}, bhat[4] = {1.0, 0.0};
+      return make(2, 1, g, alpha, Gam, b, bhat);
+    }();
+    return t;
+  }
+  // ROS34PW2 (Rang & Angermann 2005): a W-method of order 3 with an embedded order-2 method, 4 stages,
+  // L-stable and stiffly accurate.
+  static const RosenbrockTableau& ros34pw2() {
+    static const RosenbrockTableau t = [] {
+      const double g = 4.3586652150845900e-01;
+      const double alpha[4][4] = {{0},
+                                  {8.7173304301691801e-01},
+                                  {8.4457060015369423e-01, -1.1299064236484185e-01},
+                                  {0.0, 0.0, 1.0}};
+      const double Gam[4][4] = {{0},
+                                {-8.7173304301691801e-01},
+                                {-9.0338057013044082e-01, 5.4180672388095326e-02},
+                                {2.4212380706095346e-01, -1.2232505839045147e+00, 5.4526025533510214e-01}};
+      const double b[4] = {2.4212380706095346e-01, -1.2232505839045147e+00, 1.5452602553351020e+00,
+                           4.3586652150845900e-01};
+      const double bhat[4] = {3.7810903145819369e-01, -9.6042292212423178e-02, 5.0000000000000000e-01,
+                              2.1793326075422950e-01};
+      return make(4, 2, g, alpha, Gam, b, bhat);
+    }();
+    return t;
+  }
+};
+
 // A null observer: every hook does nothing.
 struct NoObserver {
   template <class S> void onStart(const Model<S>&, const State<S>&, Workspace<S>&) {}
@@ -120,6 +202,7 @@ template <class S> class Integrator {
   template <class Observer> RunStatus run(double tEnd, Observer& obs) {
     RunStatus st;
     const Settings& cfg = m_.settings;
+    w_.needDampingResponse = isRosenbrock(cfg.integrator);
     // Initial contact modes (and impacts if a stop starts approaching), then a consistent state.
     if (resolveContacts(m_, s_, w_) < 0) return fail(st, "contact solve failed at the start");
     if (cfg.stabilization != Stabilization::None && !project(m_, s_, w_))
@@ -133,7 +216,9 @@ template <class S> class Integrator {
       const double remaining = tEnd - value(s_.t);
       bool ok;
       if (cfg.integrator == IntegratorKind::DormandPrince) ok = stepDopri(std::min(h, remaining), h, st);
-      else if (cfg.integrator == IntegratorKind::Rosenbrock) ok = stepRosenbrock(std::min(h, remaining), h, st);
+      else if (cfg.integrator == IntegratorKind::Ros2) ok = stepRosenbrock(RosenbrockTableau::ros2(), std::min(h, remaining), h, st);
+      else if (cfg.integrator == IntegratorKind::Ros34pw2)
+        ok = stepRosenbrock(RosenbrockTableau::ros34pw2(), std::min(h, remaining), h, st);
       else ok = stepFixed(std::min(cfg.step, remaining), st);
       if (!ok) return st;
       ++st.steps;
@@ -403,38 +488,53 @@ template <class S> class Integrator {
     for (int f = 0; f < k; ++f) r.segment(nx, m_.nv()) -= (S(gh) * w_.damping0[f].c * w_.smallT[f]) * w_.U0.col(f);
   }
 
-  // One step of ROS2 (Verwer, Spee, Blom & Hundsdorfer 1999), a linearly implicit Rosenbrock-W
-  // method: second order for any approximation of the Jacobian, L-stable with gamma = 1 + 1/sqrt(2).
-  //   W k1 = f(y_n),   W k2 = f(y_n + h k1) - 2 k1,   y_n+1 = y_n + 3/2 h k1 + 1/2 h k2,
-  // W = I - gamma h J_W with J_W the force elements' velocity stiffness (rank 1 per damper, see
-  // DampingTerm), so the orifice damping and the regularised friction no longer cap the step.
-  // Error estimate against the embedded first-order y_n + h k1; dense output cubic Hermite.
-  bool stepRosenbrock(double h, double& hNext, RunStatus& st) {
+  // One step of a linearly implicit Rosenbrock-W method (RosenbrockTableau: ROS2 or ROS34PW2) in the
+  // transformed form of Hairer & Wanner (IV.7.25), which needs no Jacobian-vector products:
+  //   (I/(gamma h) - J_W) U_i = f(y_n + sum_j A_ij U_j) + sum_j C_ij/h U_j,   i = 1..s
+  //   y_n+1 = y_n + sum_i m_i U_i,   error estimate sum_i e_i U_i (against the embedded method),
+  // with J_W the force elements' velocity stiffness (rank 1 per damper, see DampingTerm) taken at y_n:
+  // the orifice damping and the regularised friction no longer cap the step. Any J_W keeps the order
+  // (W-method). Dense output: cubic Hermite between f(y_n) and f(y_n+1).
+  bool stepRosenbrock(const RosenbrockTableau& tab, double h, double& hNext, RunStatus& st) {
     const Settings& cfg = m_.settings;
-    auto& k = w_.stages;
+    auto& k = w_.stages;  // k[0] = f(y_n), k[1..s] = U_1..U_s, k[6] = f(y_n+1)
     const int nErr = m_.nx() + m_.nv();
-    const double gamma = 1.0 + 1.0 / std::sqrt(2.0);
-    k[0] = w_.ydot;  // f(y_n)
-    w_.U0 = w_.U;    // the damping terms at y_n (the last evaluation was at s.y)
+    k[0] = w_.ydot;
+    w_.U0 = w_.U;  // the damping terms at y_n (the last evaluation was at s.y)
     w_.damping0 = w_.damping;
+    const double expo = 1.0 / (tab.embeddedOrder + 1);
+    w_.needDampingResponse = false;  // the stages need f only; U is taken at the accepted state below
     for (int attempt = 0; attempt < 60; ++attempt) {
       w_.y0 = s_.y;
       bool ok = true;
-      {
+      const double gh = tab.gamma * h;
+      for (int i = 0; i < tab.stages; ++i) {
+        VecX<S>& U = k[1 + i];
+        if (i == 0) {
+          U = k[0];
+        } else {
+          {
+            ScopedStage timer(w_.timer, kIntegrate, cfg.profile);
+            w_.ytmp = w_.y0;
+            for (int j = 0; j < i; ++j)
+              if (tab.A[i][j] != 0) w_.ytmp += S(tab.A[i][j]) * k[1 + j];
+          }
+          ok = evaluate(m_, w_.ytmp, s_.active, s_.lambda, w_, U) && ok;
+        }
         ScopedStage timer(w_.timer, kIntegrate, cfg.profile);
-        k[1] = k[0];
-        solveW(gamma * h, k[1]);
-        w_.ytmp = w_.y0 + S(h) * k[1];
+        for (int j = 0; j < i; ++j)
+          if (tab.C[i][j] != 0) U += S(tab.C[i][j] / h) * k[1 + j];
+        solveW(gh, U);
+        U *= S(gh);
       }
-      ok = evaluate(m_, w_.ytmp, s_.active, s_.lambda, w_, k[2]) && ok;
       double err = 0;
       {
         ScopedStage timer(w_.timer, kIntegrate, cfg.profile);
-        k[2] -= S(2) * k[1];
-        solveW(gamma * h, k[2]);
-        w_.y1 = w_.y0 + S(1.5 * h) * k[1] + S(0.5 * h) * k[2];
+        w_.y1 = w_.y0;
+        for (int j = 0; j < tab.stages; ++j) w_.y1 += S(tab.m[j]) * k[1 + j];
         for (int i = 0; i < nErr; ++i) {
-          const double e = 0.5 * h * value(k[1][i] + k[2][i]);
+          double e = 0;
+          for (int j = 0; j < tab.stages; ++j) e += tab.e[j] * value(k[1 + j][i]);
           const double sc = cfg.atol + cfg.rtol * std::max(std::abs(value(w_.y0[i])), std::abs(value(w_.y1[i])));
           err += (e / sc) * (e / sc);
         }
@@ -447,7 +547,7 @@ template <class S> class Integrator {
         continue;
       }
       if (err > 1.0) {
-        h *= std::max(0.2, 0.9 / std::sqrt(err));
+        h *= std::max(0.2, 0.9 * std::pow(err, -expo));
         ++st.rejected;
         if (h < 1e-14) {
           fail(st, "step size underflow");
@@ -455,21 +555,21 @@ template <class S> class Integrator {
         }
         continue;
       }
-      hNext = std::min(cfg.maxStep, h * std::min(4.0, std::max(0.2, 0.9 / std::sqrt(std::max(err, 1e-10)))));
+      hNext = std::min(cfg.maxStep, h * std::min(4.0, std::max(0.2, 0.9 * std::pow(std::max(err, 1e-10), -expo))));
       // Accept: f, multipliers, damping terms and event functions at the step's end.
-      w_.yerr = k[0];
       s_.y = w_.y1;
       s_.t = s_.t + S(h);
+      w_.needDampingResponse = true;  // and after an event or a projection, refresh() takes it again
       if (!evaluate(m_, s_.y, s_.active, s_.lambda, w_, w_.ydot) || !allFinite(w_.ydot)) return failNonFinite(st);
       eventFunctions(m_, s_, s_.lambda, w_, w_.g1);
+      k[6] = w_.ydot;
       dense_.kind = DenseOutput<S>::Hermite;
       dense_.t0 = s_.t - S(h);
       dense_.h = h;
       dense_.y0 = &w_.y0;
       dense_.y1 = &w_.y1;
-      dense_.f0 = &w_.yerr;
-      dense_.f1 = &k[3];
-      k[3] = w_.ydot;
+      dense_.f0 = &k[0];
+      dense_.f1 = &k[6];
       bool hadEvent = false;
       if (!handleEvents(dense_, st, hadEvent)) {
         fail(st, "contact or projection solve failed after an event");

@@ -11,7 +11,9 @@
 namespace lg {
 
 enum class MultiplierSolver { Direct, GaussSeidel };
-enum class IntegratorKind { SemiImplicitEuler, RK4, DormandPrince, Rosenbrock };
+enum class IntegratorKind { SemiImplicitEuler, RK4, DormandPrince, Ros2, Ros34pw2 };
+// The linearly implicit (Rosenbrock-W) integrators: they need the force elements' damping terms.
+inline bool isRosenbrock(IntegratorKind k) { return k == IntegratorKind::Ros2 || k == IntegratorKind::Ros34pw2; }
 enum class Stabilization { Projection, Baumgarte, None };
 
 struct Settings {

@@ -75,7 +75,8 @@ template <class S> struct Workspace {
   VecX<S> fTmp, lamTmp;              // scratch for event location
   std::vector<char> candidate;       // per row: touching stop considered by a contact solve
   std::vector<int> pairList;         // the row list the pair terms were built for
-  std::vector<DampingTerm<S>> damping, damping0;  // velocity stiffness of the force elements (ros2)
+  std::vector<DampingTerm<S>> damping, damping0;  // velocity stiffness of the force elements (ros2, ros34pw2)
+  bool needDampingResponse = false;  // evaluate() also computes U (set by the Rosenbrock integrators)
   MatX<S> U, U0;                     // M_c^-1 G^T per damping term (constrained response), nv x nDamping
   std::vector<Vec6<S>> zb;           // per-body scratch
   VecX<S> dampRhs, dampMu, smallT;   // scratch of the response and of the W solve

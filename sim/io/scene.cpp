@@ -84,8 +84,9 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     if (integ == "dopri5") s.integrator = IntegratorKind::DormandPrince;
     else if (integ == "rk4") s.integrator = IntegratorKind::RK4;
     else if (integ == "euler") s.integrator = IntegratorKind::SemiImplicitEuler;
-    else if (integ == "ros2") s.integrator = IntegratorKind::Rosenbrock;
-    else r.fail("integrator", "value '" + integ + "' must be \"dopri5\", \"ros2\", \"rk4\" or \"euler\"");
+    else if (integ == "ros2") s.integrator = IntegratorKind::Ros2;
+    else if (integ == "ros34pw2") s.integrator = IntegratorKind::Ros34pw2;
+    else r.fail("integrator", "value '" + integ + "' must be \"dopri5\", \"ros34pw2\", \"ros2\", \"rk4\" or \"euler\"");
     const std::string stab = r.string("stabilization", "projection");
     if (stab == "projection") s.stabilization = Stabilization::Projection;
     else if (stab == "baumgarte") s.stabilization = Stabilization::Baumgarte;

@@ -350,7 +350,7 @@ TEST_CASE("ros2: the seed gear's limit case converges to the reference, and chea
   const lg::DropCase limit = sc.cases[2];
   REQUIRE(limit.name == "limit");
   const double ref = ref::simulateSeedGear(ref::SeedGearParams{}, limit.sinkSpeed, limit.liftRatio, limit.duration, 1e-10).peakLoad;
-  sc.model.settings.integrator = lg::IntegratorKind::Rosenbrock;
+  sc.model.settings.integrator = lg::IntegratorKind::Ros2;
   double previous = 1e300;
   for (double rtol : {1e-3, 1e-4, 1e-5}) {
     sc.model.settings.rtol = rtol;
@@ -371,4 +371,70 @@ TEST_CASE("ros2: the seed gear's limit case converges to the reference, and chea
   REQUIRE(loose.ok);
   CHECK(loose.steps < 200);
   CHECK(std::abs(loose.peak_load_N - ref) / ref < 0.1);
+}
+
+// ROS34PW2: the same W-matrix, third order with an embedded second-order estimate. It converges to the
+// reference as the tolerance tightens and, at 0.1 % peak-load accuracy, needs fewer than half the
+// right-hand-side evaluations of the explicit pair at any tolerance (dopri5's step is capped by the
+// strut's stiffness: >= 2300 evaluations whatever rtol). Counts, not times: deterministic.
+TEST_CASE("ros34pw2: third-order convergence to the reference, at a fraction of dopri5's evaluations",
+          "[drop_test][ros34pw2]") {
+  lg::Scene sc = lg::loadScene(std::string(LG_SOURCE_DIR) + "/data/seed_gear.toml");
+  const lg::DropCase limit = sc.cases[2];
+  REQUIRE(limit.name == "limit");
+  const double ref = ref::simulateSeedGear(ref::SeedGearParams{}, limit.sinkSpeed, limit.liftRatio, limit.duration, 1e-10).peakLoad;
+  auto run = [&](lg::IntegratorKind kind, double rtol) {
+    lg::Scene s = sc;
+    s.model.settings.integrator = kind;
+    s.model.settings.rtol = rtol;
+    s.model.settings.atol = rtol * 1e-2;
+    return lg::runCase(s, limit).metrics;
+  };
+  std::vector<double> errors;
+  for (double rtol : {1e-3, 1e-4, 1e-5}) {
+    const lg::CaseMetrics m = run(lg::IntegratorKind::Ros34pw2, rtol);
+    REQUIRE(m.ok);
+    const double err = std::abs(m.peak_load_N - ref) / ref;
+    INFO("rtol " << rtol << ": peak " << m.peak_load_N << " vs " << ref << ", steps " << m.steps << ", rhs "
+                 << m.rhs_evaluations << ", energy " << m.energy_balance_error);
+    CHECK(err < 10 * rtol);
+    CHECK(m.energy_balance_error < 10 * rtol);
+    CHECK(m.constraint_violation_max < 1e-6);
+    errors.push_back(err);
+  }
+  CHECK(errors[1] < errors[0] / 4);
+  CHECK(errors[2] < errors[1] / 4);
+  const lg::CaseMetrics fast = run(lg::IntegratorKind::Ros34pw2, 1e-3);
+  const lg::CaseMetrics dopri = run(lg::IntegratorKind::DormandPrince, 1e-2);
+  REQUIRE(dopri.ok);
+  CHECK(std::abs(fast.peak_load_N - ref) / ref < 1e-3);
+  CHECK(2 * fast.rhs_evaluations < dopri.rhs_evaluations);
+}
+
+// The hard cases again with the linearly implicit integrator (rtol 1e-5): stable, balanced and in
+// agreement with the reference model.
+TEST_CASE("ros34pw2: the hard cases stay stable and agree with the reference", "[drop_test][ros34pw2][hard]") {
+  struct Variant {
+    const char* label;
+    const char* element;
+    const char* key;
+    double value;
+    double V, L, duration;
+  };
+  const Variant variants[] = {{"ros34pw2 tyre K x100", "tyre", "K", 8.0e7, 3.05, 1.0, 0.8},
+                              {"ros34pw2 orifice f1 / 10", "strut", "f1", 7.0e-6, 3.05, 1.0, 0.8},
+                              {"ros34pw2 bottoming", "strut", "p01", 1.0e6, 3.66, 0.0, 0.8},
+                              {"ros34pw2 5 s free drop", "strut", "f1", 7.0e-5, 3.05, 0.0, 5.0}};
+  for (const Variant& v : variants) {
+    toml::table doc = lgtest::shippedDoc("data/seed_gear.toml");
+    doc["solver"].as_table()->insert_or_assign("integrator", "ros34pw2");
+    doc["solver"].as_table()->insert_or_assign("rtol", 1e-5);
+    doc["solver"].as_table()->insert_or_assign("atol", 1e-7);
+    lgtest::element(doc, "force", v.element).insert_or_assign(v.key, v.value);
+    if (std::string(v.label) == "ros34pw2 bottoming") lgtest::element(doc, "force", "strut").insert_or_assign("Omega0", 1.6e-3);
+    const lg::Scene sc = lgtest::build(doc);
+    const auto m = run(sc, dropCase("hard", v.V, v.L, v.duration)).metrics;
+    checkStable(v.label, m);
+    if (v.duration < 1) compareWithReference(v.label, m, ref::simulateSeedGear(seedParams(sc), v.V, v.L, v.duration));
+  }
 }
