@@ -137,7 +137,7 @@ template <class S> void dampingResponse(const Model<S>& m, Workspace<S>& w) {
     for (int a = 0; a < n; ++a) w.dampRhs[a] = rowDot(m, w, w.list[a], w.zb);
     if (m.settings.solver == MultiplierSolver::Direct) {
       for (int a = 0; a < n; ++a) w.dampMu[a] = w.dampRhs[a];
-      ldltSolve(w.A, n, w.dampMu);
+      solveA(w, w.dampMu);
     } else {  // Gauss-Seidel on the assembled A
       for (int a = 0; a < n; ++a) w.dampMu[a] = S(0);
       for (int it = 0; it < m.settings.gaussSeidelIterations; ++it) {
@@ -268,8 +268,8 @@ template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w)
     computeW(m, w);
     assembleA(m, w);
     for (size_t a = 0; a < w.list.size(); ++a) w.b[a] = w.lam[a] = -w.rows[w.list[a]].C;
-    if (!ldltFactor(w.A, static_cast<int>(w.list.size()))) return false;
-    ldltSolve(w.A, static_cast<int>(w.list.size()), w.lam);
+    if (!factorA(w)) return false;
+    solveA(w, w.lam);
     applyCorrection(m, w, s.y, true);
   }
   kinematics(m, s.y, w);
@@ -278,8 +278,8 @@ template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w)
   computeW(m, w);
   assembleA(m, w);
   for (size_t a = 0; a < w.list.size(); ++a) w.lam[a] = -rowVelocity(m, w, w.list[a]);
-  if (!ldltFactor(w.A, static_cast<int>(w.list.size()))) return false;
-  ldltSolve(w.A, static_cast<int>(w.list.size()), w.lam);
+  if (!factorA(w)) return false;
+  solveA(w, w.lam);
   applyCorrection(m, w, s.y, false);
   kinematics(m, s.y, w);
   return true;

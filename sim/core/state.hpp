@@ -43,10 +43,10 @@ struct StageTimer {
   std::array<long, kStageCount> calls{};
 };
 
-// One term of J M^-1 J^T: A(row, col) += J_k(side) . W_l(side) (see assembleA).
+// One term of J M^-1 J^T: A(row, col) += J_k(side) . W_l(side), row >= col being positions in the
+// factor's elimination order (see assembleA). The sides are those of the term's group in pairs.
 struct PairTerm {
   int row, col, k, l;
-  unsigned char sideK, sideL;  // 0: body i block, 1: body j block
 };
 
 // What the last multiplier solve reports.
@@ -81,7 +81,11 @@ template <class S> struct Workspace {
   std::vector<Vec6<S>> zb;           // per-body scratch
   VecX<S> dampRhs, dampMu, smallT;   // scratch of the response and of the W solve
   MatX<S> smallM;                    // (I + G U C), nDamping x nDamping
-  std::vector<PairTerm> pairs;       // terms of J M^-1 J^T for that list
+  std::vector<PairTerm> pairs;       // terms of J M^-1 J^T for that list, grouped by the sides (i/j)
+  std::array<int, 5> pairGroup{};    // of the two rows: terms [pairGroup[g], pairGroup[g+1]) have sides (g/2, g%2)
+  std::vector<int> order, pos;       // elimination order of the factor (order[t]: list index; pos: inverse)
+  std::vector<int> below, belowStart;  // symbolic factor: the positions t' > t with L(t', t) != 0
+  VecX<S> permTmp;                   // a right-hand side in elimination order
   SolveReport report;
   StageTimer timer;
   long rhsEvaluations = 0;
@@ -115,6 +119,11 @@ template <class S> struct Workspace {
     smallT = VecX<S>::Zero(m.nDamping);
     smallM = MatX<S>::Zero(m.nDamping, m.nDamping);
     pairs.reserve(static_cast<size_t>(2 * R * (R + 1)));
+    order.reserve(R);
+    pos.reserve(R);
+    below.reserve(static_cast<size_t>(R * R));
+    belowStart.reserve(R + 1);
+    permTmp = VecX<S>::Zero(R);
   }
   Kins<S> kins() const { return {kin.data(), static_cast<int>(kin.size()) - 1}; }
 };
