@@ -252,24 +252,30 @@ template <class S> class Integrator {
     return true;
   }
 
-  // After an accepted step or event: stabilise if needed, then refresh f and g.
-  bool afterStep(RunStatus& st) {
+  // The stabilisation of an accepted state (the rows in the workspace must be current at s.y): records
+  // the violation, then projects onto the constraint manifold if it exceeds the tolerance, or else only
+  // renormalises the quaternions. Returns false if the projection fails; 'projected' says if it ran.
+  bool stabilise(RunStatus& st, bool& projected) {
     const Settings& cfg = m_.settings;
     double pos, vel;
     violation(m_, s_.active, w_, pos, vel);
     st.maxPositionViolation = std::max(st.maxPositionViolation, pos);
     st.maxVelocityViolation = std::max(st.maxVelocityViolation, vel);
-    bool changed = false;
-    if (cfg.stabilization == Stabilization::Projection &&
-        (pos > cfg.projectionTolerance || vel > cfg.projectionTolerance)) {
-      if (!project(m_, s_, w_)) return false;
-      ++st.projections;
-      changed = true;
-    } else {
+    projected = cfg.stabilization == Stabilization::Projection &&
+                (pos > cfg.projectionTolerance || vel > cfg.projectionTolerance);
+    if (!projected) {
       normalizeQuaternions(m_, s_.y);
+      return true;
     }
-    if (changed) return refresh();
-    return true;
+    ++st.projections;
+    return project(m_, s_, w_);
+  }
+
+  // After an accepted step or event whose end was evaluated: stabilise if needed, then refresh f and g.
+  bool afterStep(RunStatus& st) {
+    bool projected = false;
+    if (!stabilise(st, projected)) return false;
+    return projected ? refresh() : true;
   }
 
   // Handles the events between the step's start (g0) and its end (g1 = w.g1); if one triggers, moves
@@ -556,10 +562,18 @@ template <class S> class Integrator {
         continue;
       }
       hNext = std::min(cfg.maxStep, h * std::min(4.0, std::max(0.2, 0.9 * std::pow(std::max(err, 1e-10), -expo))));
-      // Accept: f, multipliers, damping terms and event functions at the step's end.
+      // Accept: stabilise the step's end first (kinematics and rows only), so that the closing evaluation
+      // (f, multipliers, damping terms, event functions) is the only one even when it projects.
       s_.y = w_.y1;
       s_.t = s_.t + S(h);
-      w_.needDampingResponse = true;  // and after an event or a projection, refresh() takes it again
+      kinematics(m_, s_.y, w_);
+      constraintRows(m_, w_);
+      bool projected = false;
+      if (!stabilise(st, projected)) {
+        fail(st, "projection failed");
+        return false;
+      }
+      w_.needDampingResponse = true;  // and after an event, refresh() takes it again
       if (!evaluate(m_, s_.y, s_.active, s_.lambda, w_, w_.ydot) || !allFinite(w_.ydot)) return failNonFinite(st);
       eventFunctions(m_, s_, s_.lambda, w_, w_.g1);
       k[6] = w_.ydot;
@@ -581,11 +595,7 @@ template <class S> class Integrator {
         return true;
       }
       w_.g0 = w_.g1;
-      forceOutputs();
-      if (!afterStep(st)) {
-        fail(st, "projection failed");
-        return false;
-      }
+      forceOutputs();  // (stabilised above)
       return true;
     }
     fail(st, "too many rejected steps");
