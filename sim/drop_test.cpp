@@ -77,10 +77,11 @@ class DropObserver {
     }
     return c;
   }
-  // Channels on the dense output at time t (kinematics and force outputs only: no solve).
+  // Channels on the dense output at time t (poses and force outputs only: no solve). The workspace's
+  // kinematics are restored at the step's end by onStep.
   Channels channelsAt(double t, Workspace<double>& w, const DenseOutput<double>& d) {
     d.at(t, ytmp_);
-    kinematics(m_, ytmp_, w);
+    poses(m_, ytmp_, w);
     const Kins<double> K = w.kins();
     for (size_t f = 0; f < m_.forces.size(); ++f)
       std::visit([&](const auto& e) { e.outputs(K, w.outputs.data() + m_.outputOffset[f]); }, m_.forces[f].type);
@@ -137,8 +138,7 @@ class DropObserver {
     if (s.t > tHmax_) hMinAfter_ = std::min(hMinAfter_, end.h);
     M.constraint_violation_max = std::max(M.constraint_violation_max, viol);
     checkBottom(s);
-    // Restore the workspace's outputs at the step's end for the record.
-    channelsAt(t1, w, d);
+    // Restore the workspace's kinematics and outputs at the step's end for the record.
     kinematics(m, s.y, w);
     {
       const Kins<double> K = w.kins();

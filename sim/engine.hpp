@@ -14,17 +14,24 @@
 namespace lg {
 
 // ---- stage: kinematics ---------------------------------------------------------------------------
+// Poses and velocities only (r, R, v, w): what an observer of outputs needs, no inertia.
+template <class S> void poses(const Model<S>& m, const VecX<S>& y, Workspace<S>& w) {
+  const int N = m.nBodies();
+  for (int b = 0; b < N; ++b) {
+    BodyKin<S>& K = w.kin[b];
+    K.r = y.template segment<3>(7 * b);
+    K.R = rotation<S>(Vec4<S>(y.template segment<4>(7 * b + 3)));
+    K.v = y.template segment<3>(7 * N + 6 * b);
+    K.w = y.template segment<3>(7 * N + 6 * b + 3);
+  }
+}
 template <class S> void kinematics(const Model<S>& m, const VecX<S>& y, Workspace<S>& w) {
   ScopedStage timer(w.timer, kKinematics, m.settings.profile);
+  poses(m, y, w);
   const int N = m.nBodies();
   for (int b = 0; b < N; ++b) {
     BodyKin<S>& K = w.kin[b];
     const Body<S>& B = m.bodies[b];
-    K.r = y.template segment<3>(7 * b);
-    const Vec4<S> q = y.template segment<4>(7 * b + 3);
-    K.R = rotation<S>(q);
-    K.v = y.template segment<3>(7 * N + 6 * b);
-    K.w = y.template segment<3>(7 * N + 6 * b + 3);
     K.Iw = K.R * B.inertia.asDiagonal() * K.R.transpose();
     K.IwInv = K.R * B.inertia.cwiseInverse().asDiagonal() * K.R.transpose();
     K.mass = B.mass;
