@@ -357,6 +357,30 @@ template <class S> class Integrator {
     return tb;
   }
 
+  // The verdict on a trial step of an adaptive method with error norm err (1 = the tolerance): a
+  // non-finite trial is retried at a quarter of the step, one over the tolerance at the size its error
+  // suggests (0.9 err^-expo, at least a fifth); a step that underflows fails the run.
+  enum class Trial { Accept, Retry, Fail };
+  Trial judge(bool ok, double err, double expo, double& h, RunStatus& st) {
+    if (!ok || !allFinite(w_.y1) || !std::isfinite(err)) {
+      if (h < 1e-12) {
+        failNonFinite(st);
+        return Trial::Fail;
+      }
+      h *= 0.25;
+      ++st.rejected;
+      return Trial::Retry;
+    }
+    if (err <= 1.0) return Trial::Accept;
+    h *= std::max(0.2, 0.9 * std::pow(err, -expo));
+    ++st.rejected;
+    if (h < 1e-14) {
+      fail(st, "step size underflow");
+      return Trial::Fail;
+    }
+    return Trial::Retry;
+  }
+
   bool stepDopri(double h, double& hNext, RunStatus& st) {
     const Settings& cfg = m_.settings;
     auto& k = w_.stages;
@@ -389,21 +413,9 @@ template <class S> class Integrator {
         }
         err = std::sqrt(err / nErr);
       }
-      if (!ok || !allFinite(w_.y1) || !std::isfinite(err)) {
-        if (h < 1e-12) return failNonFinite(st);
-        h *= 0.25;
-        ++st.rejected;
-        continue;
-      }
-      if (err > 1.0) {
-        h *= std::max(0.2, 0.9 * std::pow(err, -0.2));
-        ++st.rejected;
-        if (h < 1e-14) {
-          fail(st, "step size underflow");
-          return false;
-        }
-        continue;
-      }
+      const Trial trial = judge(ok, err, 0.2, h, st);
+      if (trial == Trial::Fail) return false;
+      if (trial == Trial::Retry) continue;
       // Stabilised (PI) step-size control of Hairer's dopri5 (beta = 0.04): fewer rejections where the
       // step is capped by stability rather than accuracy.
       {
@@ -546,21 +558,9 @@ template <class S> class Integrator {
         }
         err = std::sqrt(err / nErr);
       }
-      if (!ok || !allFinite(w_.y1) || !std::isfinite(err)) {
-        if (h < 1e-12) return failNonFinite(st);
-        h *= 0.25;
-        ++st.rejected;
-        continue;
-      }
-      if (err > 1.0) {
-        h *= std::max(0.2, 0.9 * std::pow(err, -expo));
-        ++st.rejected;
-        if (h < 1e-14) {
-          fail(st, "step size underflow");
-          return false;
-        }
-        continue;
-      }
+      const Trial trial = judge(ok, err, expo, h, st);
+      if (trial == Trial::Fail) return false;
+      if (trial == Trial::Retry) continue;
       hNext = std::min(cfg.maxStep, h * std::min(4.0, std::max(0.2, 0.9 * std::pow(std::max(err, 1e-10), -expo))));
       // Accept: stabilise the step's end first (kinematics and rows only), so that the closing evaluation
       // (f, multipliers, damping terms, event functions) is the only one even when it projects.

@@ -94,14 +94,10 @@ template <class S> struct ShockAbsorber {
     return p01 * Omega0 / (n - S(1)) * (pow(S(1) - r.s * F / Omega0, S(1) - n) - S(1)) - pAtm * F * r.s;
   }
   void events(const Kins<S>&, S*) const {}
-  // sdot = G V with G_rod = -(e, a_i x e), G_cyl = (e, a_j x e); c = dP_a/dsdot =
+  // sdot = G V along the strut axis (DampingTerm::setAxial); c = dP_a/dsdot =
   // mu (p_1 - p_atm) F eps^2 / (sdot^2 + eps^2)^(3/2) + 2 (k_1 + k_2) |sdot|.
   void damping(const Kins<S>& K, DampingTerm<S>* d) const {
     const Eval r = eval(K);
-    d->bi = bi;
-    d->bj = bj;
-    d->Gi << -r.e, -r.a_i.cross(r.e);
-    d->Gj << r.e, r.a_j.cross(r.e);
     const S F = area();
     const S v2 = r.sdot * r.sdot, e2 = S(frictionVelocity * frictionVelocity);
     const S q = v2 + e2;
@@ -113,7 +109,7 @@ template <class S> struct ShockAbsorber {
       const S F2 = annularArea();
       c += xi2 * rho * F2 * F2 * F2 * speed / (f2 * f2);
     }
-    d->c = c;
+    d->setAxial(bi, bj, r.e, r.a_i, r.a_j, c);
   }
   std::vector<std::string> outputNames() const {
     std::vector<std::string> names{"s", "s_dot", "p_1", "P_a", "P_gas", "P_friction", "P_orifice1"};

@@ -44,14 +44,10 @@ template <class S> struct SpringDamper {
     return k * x * x / S(2);
   }
   void events(const Kins<S>&, S*) const {}
-  // Ldot = G V with G_i = -(e, a_i x e), G_j = (e, a_j x e); dT/dLdot = c.
+  // Ldot = G V along the spring's axis (DampingTerm::setAxial); dT/dLdot = c.
   void damping(const Kins<S>& K, DampingTerm<S>* d) const {
     const Eval r = eval(K);
-    d->bi = bi;
-    d->bj = bj;
-    d->Gi << -r.e, -r.a_i.cross(r.e);
-    d->Gj << r.e, r.a_j.cross(r.e);
-    d->c = c;
+    d->setAxial(bi, bj, r.e, r.a_i, r.a_j, c);
   }
   static std::vector<std::string> outputNames() { return {"L", "tension"}; }
   void outputs(const Kins<S>& K, S* out) const {

@@ -71,6 +71,20 @@ double finalStroke(const lg::Scene& sc, double mass, double k) {
   return s.y.segment<3>(0).dot(Vec3<double>(0.6, 0.8, 0));
 }
 
+// The same with the model cast to Jet, the mass seeded as derivative 0 and the stiffness as 1.
+J jetFinalStroke(const lg::Scene& sc, const lg::Model<double>& md) {
+  lg::Model<J> mj = md.cast<J>();
+  mj.bodies[0].mass.v[0] = 1.0;
+  std::get<lg::SpringDamper<J>>(mj.forces[mj.forceIndex("spring")].type).k.v[1] = 1.0;
+  const lg::State<double> s0 = startState(sc);
+  lg::State<J> sj(mj);
+  sj.y = s0.y.cast<J>();
+  sj.active = s0.active;
+  lg::Workspace<J> wj(mj);
+  REQUIRE(lg::simulate(mj, sj, wj, kT).ok);
+  return sj.y.segment<3>(0).dot(Vec3<J>(J(0.6), J(0.8), J(0)));
+}
+
 }  // namespace
 
 // d(final position)/d(mass) and d(final position)/d(k) from one Jet run agree with central finite
@@ -82,17 +96,7 @@ TEST_CASE("Jet derivatives of a run match central finite differences", "[jet][de
   const lg::Scene sc = lgtest::inlineScene(kOscillator);
   const double mass = 2.0, k = 50.0;
 
-  lg::Model<J> mj = sc.model.cast<J>();
-  mj.bodies[0].mass.v[0] = 1.0;
-  std::get<lg::SpringDamper<J>>(mj.forces[mj.forceIndex("spring")].type).k.v[1] = 1.0;
-  const lg::State<double> s0 = startState(sc);
-  lg::State<J> sj(mj);
-  sj.y = s0.y.cast<J>();
-  sj.active = s0.active;
-  lg::Workspace<J> wj(mj);
-  const lg::RunStatus st = lg::simulate(mj, sj, wj, kT);
-  REQUIRE(st.ok);
-  const J x = sj.y.segment<3>(0).dot(Vec3<J>(J(0.6), J(0.8), J(0)));
+  const J x = jetFinalStroke(sc, sc.model);
 
   const double x0 = finalStroke(sc, mass, k);
   const double hm = 1e-5 * mass, hk = 1e-5 * k;
@@ -122,16 +126,7 @@ TEST_CASE("Jet derivatives through ros34pw2 match the sensitivities", "[jet][der
   md.settings.integrator = lg::IntegratorKind::Ros34pw2;
   md.settings.rtol = 1e-9;
   md.settings.atol = 1e-11;
-  lg::Model<J> mj = md.cast<J>();
-  mj.bodies[0].mass.v[0] = 1.0;
-  std::get<lg::SpringDamper<J>>(mj.forces[mj.forceIndex("spring")].type).k.v[1] = 1.0;
-  const lg::State<double> s0 = startState(sc);
-  lg::State<J> sj(mj);
-  sj.y = s0.y.cast<J>();
-  sj.active = s0.active;
-  lg::Workspace<J> wj(mj);
-  REQUIRE(lg::simulate(mj, sj, wj, kT).ok);
-  const J x = sj.y.segment<3>(0).dot(Vec3<J>(J(0.6), J(0.8), J(0)));
+  const J x = jetFinalStroke(sc, md);
 
   lg::State<double> sd = startState(sc);
   lg::Workspace<double> wd(md);
