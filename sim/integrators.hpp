@@ -381,6 +381,21 @@ template <class S> class Integrator {
     return Trial::Retry;
   }
 
+  // The events of an accepted adaptive step: if one triggered, the step ends on it ('ended'); the dense
+  // output (valid on [t0, t0 + h]) still describes [t0, t_event] for the observer, the state may have
+  // jumped (impact, projection), so f and g are refreshed and the next step starts small. Returns false
+  // on failure.
+  bool endOnEvent(double h, double& hNext, RunStatus& st, bool& ended) {
+    if (!handleEvents(dense_, st, ended)) {
+      fail(st, "contact or projection solve failed after an event");
+      return false;
+    }
+    if (!ended) return true;
+    if (!refresh()) return failNonFinite(st);
+    hNext = std::max(h * 0.1, 1e-8);
+    return true;
+  }
+
   bool stepDopri(double h, double& hNext, RunStatus& st) {
     const Settings& cfg = m_.settings;
     auto& k = w_.stages;
@@ -434,18 +449,9 @@ template <class S> class Integrator {
       s_.y = w_.y1;
       s_.t = s_.t + S(h);
       eventFunctions(m_, s_, s_.lambda, w_, w_.g1);
-      bool hadEvent = false;
-      if (!handleEvents(dense_, st, hadEvent)) {
-        fail(st, "contact or projection solve failed after an event");
-        return false;
-      }
-      if (hadEvent) {
-        // The step ends on the event; the dense output (valid on [t0, t0 + h]) still describes
-        // [t0, t_event] for the observer. The state may have jumped (impact, projection): refresh f.
-        if (!refresh()) return failNonFinite(st);
-        hNext = std::max(h * 0.1, 1e-8);
-        return true;
-      }
+      bool ended = false;
+      if (!endOnEvent(h, hNext, st, ended)) return false;
+      if (ended) return true;
       // Smooth step: first same as last.
       w_.ydot = k[6];
       w_.g0 = w_.g1;
@@ -584,16 +590,9 @@ template <class S> class Integrator {
       dense_.y1 = &w_.y1;
       dense_.f0 = &k[0];
       dense_.f1 = &k[6];
-      bool hadEvent = false;
-      if (!handleEvents(dense_, st, hadEvent)) {
-        fail(st, "contact or projection solve failed after an event");
-        return false;
-      }
-      if (hadEvent) {
-        if (!refresh()) return failNonFinite(st);
-        hNext = std::max(h * 0.1, 1e-8);
-        return true;
-      }
+      bool ended = false;
+      if (!endOnEvent(h, hNext, st, ended)) return false;
+      if (ended) return true;
       w_.g0 = w_.g1;
       forceOutputs();  // (stabilised above)
       return true;
