@@ -2,7 +2,8 @@
 // constraint rows (a 5-link chain of revolute joints, the first hinged to the ground, hinge axes
 // alternating between z and an oblique axis so that the motion is 3-D), falling under gravity from
 // horizontal. For each multiplier solver (direct, Gauss-Seidel) and each integrator (semi-implicit
-// Euler and RK4 at a fixed step of 1e-4 s, Dormand-Prince 5(4) at rtol 1e-6) it prints the counts and
+// Euler and RK4 at a fixed step of 1e-4 s, Dormand-Prince 5(4), ROS34PW2 and ROS2 at rtol 1e-6; the
+// chain has no damper, so the Rosenbrock-W methods run with W = I) it prints the counts and
 // rates of an unprofiled run, then the per-stage time breakdown of a second run with
 // Settings::profile = true. Gauss-Seidel with the fixed-step integrators simulates 0.2 s instead of
 // 1 s (it is ~50 times slower here). "max |C|" is the largest constraint violation seen at a step's
@@ -84,18 +85,21 @@ int main() {
       {lg::MultiplierSolver::Direct, "direct", lg::IntegratorKind::SemiImplicitEuler, "euler h=1e-4", 1.0},
       {lg::MultiplierSolver::Direct, "direct", lg::IntegratorKind::RK4, "rk4 h=1e-4", 1.0},
       {lg::MultiplierSolver::Direct, "direct", lg::IntegratorKind::DormandPrince, "dopri5 rtol=1e-6", 1.0},
+      {lg::MultiplierSolver::Direct, "direct", lg::IntegratorKind::Ros34pw2, "ros34pw2 rtol=1e-6", 1.0},
+      {lg::MultiplierSolver::Direct, "direct", lg::IntegratorKind::Ros2, "ros2 rtol=1e-6", 1.0},
       {lg::MultiplierSolver::GaussSeidel, "gauss-seidel", lg::IntegratorKind::SemiImplicitEuler, "euler h=1e-4", 0.2},
       {lg::MultiplierSolver::GaussSeidel, "gauss-seidel", lg::IntegratorKind::RK4, "rk4 h=1e-4", 0.2},
       {lg::MultiplierSolver::GaussSeidel, "gauss-seidel", lg::IntegratorKind::DormandPrince, "dopri5 rtol=1e-6", 1.0},
+      {lg::MultiplierSolver::GaussSeidel, "gauss-seidel", lg::IntegratorKind::Ros34pw2, "ros34pw2 rtol=1e-6", 1.0},
   };
-  std::printf("\n%-13s %-17s %7s %8s %10s %9s %11s %13s %10s\n", "solver", "integrator", "sim [s]", "steps", "RHS evals",
+  std::printf("\n%-13s %-19s %7s %8s %10s %9s %11s %13s %10s\n", "solver", "integrator", "sim [s]", "steps", "RHS evals",
               "wall [s]", "steps/s", "RHS evals/s", "max |C|");
   std::vector<Row> rows;
   for (const Config& c : configs) {
     Row r = run(sc, c.solver, c.integ, c.duration, false);
     r.solver = c.sName;
     r.integrator = c.iName;
-    std::printf("%-13s %-17s %7.2f %8ld %10ld %9.3f %11.0f %13.0f %10.1e\n", r.solver, r.integrator, c.duration, r.steps,
+    std::printf("%-13s %-19s %7.2f %8ld %10ld %9.3f %11.0f %13.0f %10.1e\n", r.solver, r.integrator, c.duration, r.steps,
                 r.rhs, r.wall, r.steps / r.wall, r.rhs / r.wall, r.violation);
     Row p = run(sc, c.solver, c.integ, c.duration, true);
     r.timer = p.timer;
@@ -103,11 +107,11 @@ int main() {
     rows.push_back(r);
   }
   std::printf("\nper-stage time, profiled runs (Settings::profile = true; %% of the profiled wall time, mean us per call)\n");
-  std::printf("%-13s %-17s %9s", "solver", "integrator", "wall [s]");
+  std::printf("%-13s %-19s %9s", "solver", "integrator", "wall [s]");
   for (int st = 0; st < lg::kStageCount; ++st) std::printf(" %17s", lg::stageName(st));
   std::printf("\n");
   for (const Row& r : rows) {
-    std::printf("%-13s %-17s %9.3f", r.solver, r.integrator, r.profiledWall);
+    std::printf("%-13s %-19s %9.3f", r.solver, r.integrator, r.profiledWall);
     for (int st = 0; st < lg::kStageCount; ++st) {
       if (r.timer.calls[st] == 0) {
         std::printf(" %17s", "-");
