@@ -1,9 +1,7 @@
 // Scene parser: TOML -> Model<double>, initial state, drop cases. Validates everything at the edge.
 
-// False positives of GCC 12 in inlined library code: std::string's operator+ (GCC bug 105329) and
-// fast-cpp-csv-parser's bounded file-name copy.
+// A false positive of GCC in inlined library code: fast-cpp-csv-parser's bounded file-name copy.
 #if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wrestrict"
 #pragma GCC diagnostic ignored "-Wstringop-truncation"
 #endif
 #include "sim/io/scene.hpp"
