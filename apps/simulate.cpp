@@ -1,10 +1,12 @@
-// simulate SCENE [--case NAME]... [--out DIR] [--plots] [--threads N]
+// simulate SCENE [--case NAME]... [--out DIR] [--plots] [--threads N] [--integrator NAME] [--rtol X]
+//          [--atol X] [--step H] [--quiet]
 // Runs drop cases of a scene and writes DIR/<case>.csv, DIR/summary.json (and plots).
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -12,6 +14,7 @@
 #include <thread>
 
 #include "sim/io/results.hpp"
+#include "sim/io/toml_reader.hpp"  // lg::fmt
 
 int main(int argc, char** argv) {
   CLI::App app{"Drop-test simulator: runs the drop cases of a gear scene"};
@@ -19,18 +22,46 @@ int main(int argc, char** argv) {
   std::vector<std::string> caseNames;
   bool plots = false, quiet = false;
   int threads = 0;
+  std::string integrator;
+  double rtol = 0, atol = 0, step = 0;
   app.add_option("scene", scenePath, "scene file (TOML)")->required();
   app.add_option("--case", caseNames, "case to run (repeatable; default: every case of the scene)");
   app.add_option("--out", outDir, "output directory (default: out)");
   app.add_flag("--plots", plots, "draw P_y(t), s(t), h(t) and the work diagram P_y(h) with gnuplot");
   app.add_option("--threads", threads, "threads for running cases in parallel (default: all cores)");
   app.add_flag("--quiet", quiet, "no progress and no table on the terminal");
+  app.add_option("--integrator", integrator, "override the scene's integrator: dopri5, ros34pw2, ros2, rk4, euler");
+  app.add_option("--rtol", rtol, "override the relative tolerance of the adaptive integrators (atol = rtol/100 unless --atol)");
+  app.add_option("--atol", atol, "override the absolute tolerance of the adaptive integrators");
+  app.add_option("--step", step, "override the step of the fixed-step integrators (first trial step of the adaptive ones) [s]");
   CLI11_PARSE(app, argc, argv);
 
   lg::Scene scene;
   std::vector<lg::DropCase> cases;
   try {
     scene = lg::loadScene(scenePath);
+    // Solver overrides from the command line, checked like the scene's own keys.
+    lg::Settings& cfg = scene.model.settings;
+    auto positive = [](const char* flag, double v) {
+      if (!(v > 0) || !std::isfinite(v))
+        throw lg::InputError("command line", 0, flag, "value " + lg::fmt(v) + " must be > 0");
+    };
+    if (!integrator.empty() && !lg::integratorFromName(integrator, cfg.integrator))
+      throw lg::InputError("command line", 0, "--integrator",
+                           "value '" + integrator + "' must be one of " + lg::integratorNames());
+    if (app.count("--rtol")) {
+      positive("--rtol", rtol);
+      cfg.rtol = rtol;
+      cfg.atol = rtol * 1e-2;
+    }
+    if (app.count("--atol")) {
+      positive("--atol", atol);
+      cfg.atol = atol;
+    }
+    if (app.count("--step")) {
+      positive("--step", step);
+      cfg.step = step;
+    }
     if (caseNames.empty()) cases = scene.cases;
     for (const auto& n : caseNames) {
       auto it = std::find_if(scene.cases.begin(), scene.cases.end(), [&](const auto& c) { return c.name == n; });

@@ -18,6 +18,22 @@
 #include "sim/io/toml_reader.hpp"
 
 namespace lg {
+
+bool integratorFromName(const std::string& name, IntegratorKind& kind) {
+  static const std::pair<const char*, IntegratorKind> table[] = {{"dopri5", IntegratorKind::DormandPrince},
+                                                                 {"ros34pw2", IntegratorKind::Ros34pw2},
+                                                                 {"ros2", IntegratorKind::Ros2},
+                                                                 {"rk4", IntegratorKind::RK4},
+                                                                 {"euler", IntegratorKind::SemiImplicitEuler}};
+  for (const auto& [n, k] : table)
+    if (name == n) {
+      kind = k;
+      return true;
+    }
+  return false;
+}
+std::string integratorNames() { return "\"dopri5\", \"ros34pw2\", \"ros2\", \"rk4\", \"euler\""; }
+
 namespace {
 
 struct Pose {
@@ -86,12 +102,8 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     else if (mult == "gauss-seidel") s.solver = MultiplierSolver::GaussSeidel;
     else r.fail("multipliers", "value '" + mult + "' must be \"direct\" or \"gauss-seidel\"");
     const std::string integ = r.string("integrator", "dopri5");
-    if (integ == "dopri5") s.integrator = IntegratorKind::DormandPrince;
-    else if (integ == "rk4") s.integrator = IntegratorKind::RK4;
-    else if (integ == "euler") s.integrator = IntegratorKind::SemiImplicitEuler;
-    else if (integ == "ros2") s.integrator = IntegratorKind::Ros2;
-    else if (integ == "ros34pw2") s.integrator = IntegratorKind::Ros34pw2;
-    else r.fail("integrator", "value '" + integ + "' must be \"dopri5\", \"ros34pw2\", \"ros2\", \"rk4\" or \"euler\"");
+    if (!integratorFromName(integ, s.integrator))
+      r.fail("integrator", "value '" + integ + "' must be one of " + integratorNames());
     const std::string stab = r.string("stabilization", "projection");
     if (stab == "projection") s.stabilization = Stabilization::Projection;
     else if (stab == "baumgarte") s.stabilization = Stabilization::Baumgarte;

@@ -65,6 +65,11 @@ struct Scene {
   Vec3<double> up{0, 1, 0};  // -g / |g|
 };
 
+// The integrators by their scene-file names ("dopri5", "ros34pw2", "ros2", "rk4", "euler"); false if
+// the name is none of them. integratorNames() lists them for messages.
+bool integratorFromName(const std::string& name, IntegratorKind& kind);
+std::string integratorNames();
+
 // Parses a scene file; throws InputError.
 Scene loadScene(const std::string& path);
 // Parses scene text; 'file' names it in messages; 'baseDir' resolves relative table paths.

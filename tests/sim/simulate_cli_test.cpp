@@ -126,3 +126,37 @@ TEST_CASE("simulate: results do not depend on the thread count", "[cli][determin
   }
   CHECK(files == 6);  // 5 cases + summary.json
 }
+
+// The solver overrides of the command line: the same case with the linearly implicit integrator at a
+// loose tolerance takes far fewer steps and stays within 0.2 % of the scene's reference-quality run;
+// a bad override is bad input (exit status 2, the flag named, nothing written).
+TEST_CASE("simulate: --integrator and --rtol override the scene's solver", "[cli]") {
+  lgtest::TempDir dir("cli_solver");
+  const std::string scene = q(lgtest::sourcePath("data/seed_gear.toml"));
+  REQUIRE(simulate(scene + " --case limit --out " + q(dir / "ref")) == 0);
+  REQUIRE(simulate(scene + " --case limit --integrator ros34pw2 --rtol 2e-3 --out " + q(dir / "fast")) == 0);
+  auto number = [](const std::string& json, const std::string& key) {
+    const size_t at = json.find("\"" + key + "\": ");
+    REQUIRE(at != std::string::npos);
+    return std::stod(json.substr(at + key.size() + 4));
+  };
+  const std::string ref = lgtest::readFile(dir / "ref/summary.json");
+  const std::string fast = lgtest::readFile(dir / "fast/summary.json");
+  INFO("reference: " << number(ref, "steps") << " steps, peak " << number(ref, "peak_load_N") << "; ros34pw2: "
+                     << number(fast, "steps") << " steps, peak " << number(fast, "peak_load_N"));
+  CHECK(number(fast, "steps") < 0.5 * number(ref, "steps"));
+  CHECK(std::abs(number(fast, "peak_load_N") / number(ref, "peak_load_N") - 1) < 2e-3);
+
+  for (const std::pair<const char*, const char*> bad :
+       {std::pair{"--integrator nope", "'--integrator'"}, {"--rtol -1", "'--rtol'"}, {"--rtol 0", "'--rtol'"},
+        {"--atol -1e-9", "'--atol'"}, {"--step 0", "'--step'"}}) {
+    INFO(bad.first);
+    const std::string out = dir / "bad";
+    const std::string cmd = "'" + lgtest::binPath("simulate") + "' " + scene + " " + bad.first + " --out " + q(out) +
+                            " --quiet 2>" + q(dir / "err.txt");
+    const int st = std::system(cmd.c_str());
+    CHECK(WEXITSTATUS(st) == 2);
+    CHECK(lgtest::readFile(dir / "err.txt").find(bad.second) != std::string::npos);
+    CHECK(!std::filesystem::exists(out));
+  }
+}
