@@ -50,7 +50,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
   Study s;
   s.file = file;
   TomlReader top(doc, file, "");
-  top.allowOnly({"name", "description", "scene", "variable", "case", "objective", "constraints", "algorithm"});
+  top.allowOnly({"name", "description", "scene", "solver", "variable", "case", "objective", "constraints", "algorithm"});
   s.name = top.string("name", std::filesystem::path(file).stem().string());
   (void)top.string("description", "");
 
@@ -66,6 +66,28 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
     s.sceneDir = p.parent_path().lexically_normal().string();
     if (s.sceneDir.empty()) s.sceneDir = ".";
     s.scene = loadScene(s.sceneFile);  // its own errors name the scene file
+  }
+
+  // [solver]: the study's own integrator settings, written into the scene's [solver] so that every
+  // design, the baseline and best.toml run with them (a fast, looser setting for long studies).
+  if (const toml::table* t = tableOf(doc, "solver", file)) {
+    TomlReader r(*t, file, "solver");
+    r.allowOnly({"integrator", "rtol", "atol", "step"});
+    toml::table& sceneSolver = *s.scene.doc.insert("solver", toml::table{}).first->second.as_table();
+    if (r.has("integrator")) {
+      const std::string name = r.string("integrator");
+      IntegratorKind kind;
+      if (!integratorFromName(name, kind)) r.fail("integrator", "value '" + name + "' must be one of " + integratorNames());
+      sceneSolver.insert_or_assign("integrator", name);
+    }
+    if (r.has("rtol")) {
+      const double rtol = r.positive("rtol");
+      sceneSolver.insert_or_assign("rtol", rtol);
+      if (!r.has("atol")) sceneSolver.insert_or_assign("atol", rtol * 1e-2);
+    }
+    if (r.has("atol")) sceneSolver.insert_or_assign("atol", r.positive("atol"));
+    if (r.has("step")) sceneSolver.insert_or_assign("step", r.positive("step"));
+    s.scene = buildScene(s.scene.doc, s.sceneFile, s.sceneDir);
   }
 
   // [[variable]]

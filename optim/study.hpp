@@ -3,6 +3,7 @@
 // objective, the constraints and the NLopt algorithm. `optimize` runs it.
 //
 //   scene = "../data/seed_gear.toml"          # relative to the study file
+//   [solver]      integrator = "ros34pw2", rtol = 1e-4, atol, step   # into the scene's [solver]
 //   [[variable]]  path = "strut.f1", lower = 4e-5, upper = 1.2e-4, initial = 7e-5, log = true
 //   [[case]]      name = "limit"              # a case of the scene ...
 //   [[case]]      name = "hard", sink_speed = 3.3, lift_ratio = 1.0, duration = 0.8, weight = 2

@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "optim/evaluator.hpp"
 #include "optim/study.hpp"
 
 // After the project headers: glog (through Ceres) defines CHECK too; Catch's must win.
@@ -140,6 +141,28 @@ TEST_CASE("study: bad files name file, line and key", "[optim][study]") {
     expectError("case.cfg", t, 3, "case[0].name", "not a case of the scene");
   }
   SECTION("TOML syntax") { expectError("syntax.cfg", study(v + "upper = = 3\n"), 17, "", "TOML syntax"); }
+  SECTION("bad solver settings") {
+    expectError("solver1.cfg", study(v, "[solver]\nintegrator = \"rk5\"\n"), 18, "solver.integrator", "ros34pw2");
+    expectError("solver2.cfg", study(v, "[solver]\nrtol = -1e-4\n"), 18, "solver.rtol", "> 0");
+    expectError("solver3.cfg", study(v, "[solver]\norder = 3\n"), 18, "solver.order", "unknown key");
+  }
+}
+
+// A study's [solver] goes into the scene it runs: the baseline, every design and best.toml (the design
+// document) use its integrator and tolerances; without it the scene's own settings stand.
+TEST_CASE("study: [solver] sets the integrator of every design", "[optim][study]") {
+  const std::string v = "path = \"strut.f1\"\nlower = 3e-5\nupper = 1.6e-4\n";
+  const Study plain = loadStudy(write("plain.cfg", study(v)));
+  CHECK(plain.scene.model.settings.integrator == lg::IntegratorKind::DormandPrince);
+  CHECK(plain.scene.model.settings.rtol == 1e-6);
+  const Study fast = loadStudy(write("fast.cfg", study(v, "[solver]\nintegrator = \"ros34pw2\"\nrtol = 1e-4\n")));
+  CHECK(fast.scene.model.settings.integrator == lg::IntegratorKind::Ros34pw2);
+  CHECK(fast.scene.model.settings.rtol == 1e-4);
+  CHECK(fast.scene.model.settings.atol == Approx(1e-6).epsilon(1e-12));
+  const toml::table design = designDocument(fast, {8e-5});
+  CHECK(design["solver"]["integrator"].value_or(std::string()) == "ros34pw2");
+  CHECK(design["solver"]["rtol"].value_or(0.0) == 1e-4);
+  CHECK(design["force"][2]["f1"].value_or(0.0) == 8e-5);
 }
 
 TEST_CASE("study: optimize exits with status 2 on a bad file and writes nothing", "[optim][study]") {
