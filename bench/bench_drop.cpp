@@ -111,8 +111,8 @@ int main(int argc, char** argv) {
     sc.model.settings.profile = true;
     if (which == 1) {
       sc.model.settings.integrator = lg::IntegratorKind::Ros34pw2;
-      sc.model.settings.rtol = 2e-3;
-      sc.model.settings.atol = 2e-5;
+      sc.model.settings.rtol = 3e-3;
+      sc.model.settings.atol = 3e-5;
     }
     const lg::Model<double> m = lg::caseModel(sc, limit);
     lg::State<double> s = lg::caseState(sc, m, limit);
