@@ -147,7 +147,7 @@ TEST_CASE("simulate: --integrator and --rtol override the scene's solver", "[cli
   CHECK(number(fast, "steps") < 0.5 * number(ref, "steps"));
   CHECK(std::abs(number(fast, "peak_load_N") / number(ref, "peak_load_N") - 1) < 2e-3);
 
-  for (const std::pair<const char*, const char*> bad :
+  for (const std::pair<const char*, const char*>& bad :
        {std::pair{"--integrator nope", "'--integrator'"}, {"--rtol -1", "'--rtol'"}, {"--rtol 0", "'--rtol'"},
         {"--atol -1e-9", "'--atol'"}, {"--step 0", "'--step'"}}) {
     INFO(bad.first);
