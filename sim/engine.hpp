@@ -290,8 +290,8 @@ template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w)
   }
   kinematics(m, s.y, w);
   constraintRows(m, w);
-  if (!factorOnce()) return false;
-  computeW(m, w);  // the correction directions at the final positions
+  if (factored) computeW(m, w);     // the correction directions at the final positions
+  else if (!factorOnce()) return false;  // (no position iteration: W and the factor are current)
   for (size_t a = 0; a < w.list.size(); ++a) w.lam[a] = -rowVelocity(m, w, w.list[a]);
   solveA(w, w.lam);
   applyCorrection(m, w, s.y, false);
