@@ -13,6 +13,7 @@
 #include <mutex>
 #include <thread>
 
+#include "sim/io/plots.hpp"
 #include "sim/io/results.hpp"
 #include "sim/io/toml_reader.hpp"  // lg::fmt
 
@@ -115,6 +116,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   int failed = 0;
+  const bool gp = plots && lg::haveGnuplot();
+  if (plots && !gp) std::cerr << "plots skipped: gnuplot is not installed (scripts/setup.sh installs gnuplot-nox)\n";
   for (const auto& r : results) {
     lg::writeHistoryCsv(scene, r, outDir + "/" + r.metrics.name + ".csv");
     if (!r.metrics.ok) {
@@ -122,24 +125,31 @@ int main(int argc, char** argv) {
       std::cerr << "case " << r.metrics.name << " failed: " << r.metrics.message << "\n";
     }
     if (plots) {
+      lg::CaseFigure f;
+      char title[256];
+      std::snprintf(title, sizeof title, "%s: %s, V = %.3f m/s, L = %.3g, W = %.0f kg", scene.name.c_str(),
+                    r.metrics.name.c_str(), r.metrics.sink_speed_mps, r.metrics.lift_ratio, r.metrics.mass_kg);
+      f.title = title;
+      f.run = &r;
+      f.limits = lg::sceneLimits(scene);
       std::string why;
-      if (!lg::writePlots(scene, r, outDir + "/" + r.metrics.name + ".csv", outDir, &why))
-        std::cerr << "plots skipped: " << why << "\n";
+      if (!lg::drawCaseFigure(f, outDir, lg::safeFileStem(r.metrics.name), gp, &why) && gp)
+        std::cerr << "plot of " << r.metrics.name << " skipped: " << why << "\n";
     }
   }
   lg::writeSummaryJson(scene, results, outDir + "/summary.json");
   if (!quiet) {
-    std::printf("%-10s %12s %9s %7s %9s %9s %9s %7s %7s %10s %6s %9s\n", "case", "peak P_y[N]", "t_peak[s]", "n_y",
-                "s_max[m]", "h_max[m]", "delta[m]", "eta", "eta_s", "E_err", "steps", "time[ms]");
+    std::printf("%-10s %12s %9s %7s %9s %9s %9s %7s %7s %10s %6s %9s  %s\n", "case", "peak P_y[N]", "t_peak[s]", "n_y",
+                "s_max[m]", "h_max[m]", "delta[m]", "eta", "eta_s", "E_err", "steps", "time[ms]", "limits");
     for (const auto& r : results) {
       const auto& m = r.metrics;
-      std::printf("%-10s %12.1f %9.5f %7.3f %9.5f %9.5f %9.5f %7.4f %7.4f %10.2e %6ld %9.3f%s\n", m.name.c_str(),
+      const std::string lim = !m.ok ? "FAILED: " + m.message : m.withinLimits() ? "ok" : "EXCEEDED: " + m.limitViolations();
+      std::printf("%-10s %12.1f %9.5f %7.3f %9.5f %9.5f %9.5f %7.4f %7.4f %10.2e %6ld %9.3f  %s\n", m.name.c_str(),
                   m.peak_load_N, m.t_peak_s, m.load_factor, m.stroke_max_m, m.h_max_m, m.tyre_deflection_max_m,
-                  m.efficiency, m.strut_efficiency, m.energy_balance_error, m.steps, 1e3 * m.wall_time_s,
-                  m.ok ? "" : "  FAILED");
+                  m.efficiency, m.strut_efficiency, m.energy_balance_error, m.steps, 1e3 * m.wall_time_s, lim.c_str());
     }
     std::printf("wrote %s/summary.json and %zu case file(s)%s\n", outDir.c_str(), results.size(),
-                plots ? " with plots" : "");
+                gp ? " with plots" : "");
   }
   return failed ? 1 : 0;
 }

@@ -6,14 +6,50 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 namespace lg {
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string shortNumber(double v) {
+  std::ostringstream o;
+  o.precision(4);
+  o << v;
+  return o.str();
+}
+}  // namespace
+
+bool CaseMetrics::withinLimits() const { return limitViolations().empty(); }
+
+std::string CaseMetrics::limitViolations() const {
+  std::string out;
+  auto add = [&](const std::string& s) { out += (out.empty() ? "" : "; ") + s; };
+  if (bottomed) add("bottomed");
+  for (const auto& s : struts)
+    if (s.stroke_margin_m < 0 && !bottomed)
+      add("strut '" + s.name + "' stroke " + shortNumber(s.stroke_max_m) + " m > S_max " + shortNumber(s.stroke_limit_m) + " m");
+  for (const auto& t : tyres)
+    if (t.margin_m < 0)
+      add("tyre '" + t.name + "' " + shortNumber(t.deflection_max_m) + " m > delta_max " + shortNumber(t.deflection_limit_m) +
+          " m");
+  return out;
+}
+
+double caseMass(const Scene& scene, const DropCase& c) {
+  double G = 0;
+  for (const auto& b : scene.model.bodies) {
+    const auto it = c.masses.find(b.name);
+    G += it == c.masses.end() ? b.mass : it->second;
+  }
+  return G;
+}
 
 Model<double> caseModel(const Scene& scene, const DropCase& c) {
   Model<double> m = scene.model;
   for (const auto& [name, mass] : c.masses) m.bodies[m.bodyIndex(name)].mass = mass;
-  double G = 0;  // [kg] total mass
-  for (const auto& b : m.bodies) G += b.mass;
+  const double G = caseMass(scene, c);  // [kg] total mass
   for (int li : scene.roles.lifts) {
     auto& f = m.forces[li];
     auto& cf = std::get<ConstantForce<double>>(f.type);
@@ -37,118 +73,127 @@ State<double> caseState(const Scene& scene, const Model<double>& m, const DropCa
 
 namespace {
 
+// The channels the observer reads at one time: airframe travel, the sum of the tyre loads, and each
+// strut's and tyre's own. Sized once per run; copies between equal sizes do not allocate.
+struct Channels {
+  double t = 0, Py = 0, PyDot = 0, h = 0, hdot = 0;
+  std::vector<double> s, sdot, Pa;          // per strut
+  std::vector<double> delta, ddelta, Pt;    // per tyre
+  Channels(size_t struts = 0, size_t tyres = 0)
+      : s(struts), sdot(struts), Pa(struts), delta(tyres), ddelta(tyres), Pt(tyres) {}
+};
+
 // Watches a drop run: time histories, refined extrema, compression integrals, energy.
 class DropObserver {
  public:
-  DropObserver(const Scene& sc, const Model<double>& m, const CaseOptions& opt, CaseResult& res)
-      : sc_(sc), m_(m), opt_(opt), res_(res) {
+  DropObserver(const Scene& sc, const Model<double>& m, const DropCase& c, const CaseOptions& opt, CaseResult& res)
+      : sc_(sc), m_(m), case_(c), opt_(opt), res_(res) {
     airframe_ = sc.roles.airframe.empty() ? -1 : m.bodyIndex(sc.roles.airframe);
-    for (int c : sc.roles.stops) {
-      stopRows_.push_back(m.rowOffset[c]);
-      const auto& st = std::get<DistanceStop<double>>(m.constraints[c].type);
-      if (!st.noFarther) bottomRows_.push_back(m.rowOffset[c]);
+    for (int ci : sc.roles.stops) {
+      stopRows_.push_back(m.rowOffset[ci]);
+      const auto& st = std::get<DistanceStop<double>>(m.constraints[ci].type);
+      if (!st.noFarther) bottomRows_.push_back(m.rowOffset[ci]);
     }
     for (int f : sc.roles.tyres) tyreOut_.push_back(m.outputOffset[f]);
-    if (!sc.roles.struts.empty()) strutOut_ = m.outputOffset[sc.roles.struts[0]];
+    for (int f : sc.roles.struts) strutOut_.push_back(m.outputOffset[f]);
+    const size_t ns = strutOut_.size(), nt = tyreOut_.size();
+    prev_ = end_ = mid_ = after_ = scratch_ = Channels(ns, nt);
+    workPa_.assign(ns, 0.0);
+    workPaAtMax_.assign(ns, 0.0);
+    auto& M = res_.metrics;
+    M.struts.resize(ns);
+    for (size_t k = 0; k < ns; ++k) {
+      M.struts[k].name = m.forces[sc.roles.struts[k]].name;
+      M.struts[k].stroke_limit_m = sc.roles.strokeLimits[k];
+    }
+    M.tyres.resize(nt);
+    for (size_t k = 0; k < nt; ++k) {
+      M.tyres[k].name = m.forces[sc.roles.tyres[k]].name;
+      M.tyres[k].deflection_limit_m = std::get<Tyre<double>>(m.forces[sc.roles.tyres[k]].type).deltaMax;
+    }
     ytmp_ = VecX<double>::Zero(m.ny());
-  }
-
-  // Channels at the workspace's current kinematics (outputs must be current).
-  struct Channels {
-    double t, Py, s, sdot, h, hdot, delta, ddelta, Pa;
-  };
-  Channels channels(double t, const Workspace<double>& w) const {
-    Channels c{t, 0, 0, 0, 0, 0, 0, 0, 0};
-    for (int o : tyreOut_) c.Py += w.outputs[o + 1];
-    if (!tyreOut_.empty()) {
-      c.delta = w.outputs[tyreOut_[0]];
-      const auto& ty = std::get<Tyre<double>>(m_.forces[sc_.roles.tyres[0]].type);
-      const BodyKin<double>& K = w.kin[ty.body];
-      c.ddelta = -ty.normal.dot(K.pointVelocity(K.R * ty.rho));
-    }
-    if (strutOut_ >= 0) {
-      c.s = w.outputs[strutOut_];
-      c.sdot = w.outputs[strutOut_ + 1];
-      c.Pa = w.outputs[strutOut_ + 3];
-    }
-    if (airframe_ >= 0) {
-      c.h = sc_.up.dot(r0_ - w.kin[airframe_].r);
-      c.hdot = -sc_.up.dot(w.kin[airframe_].v);
-    }
-    return c;
-  }
-  // Channels on the dense output at time t (poses and force outputs only: no solve). The workspace's
-  // kinematics are restored at the step's end by onStep.
-  Channels channelsAt(double t, Workspace<double>& w, const DenseOutput<double>& d) {
-    d.at(t, ytmp_);
-    poses(m_, ytmp_, w);
-    const Kins<double> K = w.kins();
-    for (size_t f = 0; f < m_.forces.size(); ++f)
-      std::visit([&](const auto& e) { e.outputs(K, w.outputs.data() + m_.outputOffset[f]); }, m_.forces[f].type);
-    return channels(t, w);
   }
 
   void onStart(const Model<double>& m, const State<double>& s, Workspace<double>& w) {
     if (airframe_ >= 0) r0_ = w.kin[airframe_].r;
-    prev_ = channels(s.t, w);
+    channels(s.t, w, prev_);
     EnergyReport<double> e = energy(m, s, w);
     e0_ = e.total();
     ek0_ = e.kinetic;
     uExt0_ = externalPotential(w);
-    record(s, w, prev_);
-    res_.metrics.peak_load_N = prev_.Py;
-    res_.metrics.strut_force_max_N = prev_.Pa;
-    res_.metrics.stroke_max_m = prev_.s;
-    res_.metrics.h_max_m = prev_.h;
-    res_.metrics.tyre_deflection_max_m = prev_.delta;
-    hMinAfter_ = std::numeric_limits<double>::infinity();
+    if (opt_.record) record(s, w, prev_);
+    auto& M = res_.metrics;
+    M.peak_load_N = prev_.Py;
+    M.h_max_m = prev_.h;
+    for (size_t k = 0; k < M.struts.size(); ++k) {
+      M.struts[k].stroke_max_m = prev_.s[k];
+      M.struts[k].force_max_N = prev_.Pa[k];
+    }
+    for (size_t k = 0; k < M.tyres.size(); ++k) {
+      M.tyres[k].deflection_max_m = prev_.delta[k];
+      M.tyres[k].load_max_N = prev_.Pt[k];
+    }
     checkBottom(s);
   }
 
   void onStep(const Model<double>& m, const State<double>& s, Workspace<double>& w, const DenseOutput<double>& d) {
-    const std::vector<double> lam(stopForces(s, w));
     const double viol = violation(s, w);
     // Compression integrals (Simpson on the dense output) over [t0, t1], and refined extrema. The step's
     // end is taken on the dense output, i.e. before any jump at t1 (a plastic impact or a projection
-    // changes the velocities, hence sdot, hdot and P_a, but belongs to the next step's start).
+    // changes the velocities, hence the rates and P_a, but belongs to the next step's start).
     const double t0 = prev_.t, t1 = s.t;
-    const Channels end = channelsAt(t1, w, d);
-    Channels mid = channelsAt(0.5 * (t0 + t1), w, d);
-    workPy_ += simpson(prev_.Py, mid.Py, end.Py, prev_.h, mid.h, end.h, prev_.hdot, mid.hdot, end.hdot, t1 - t0);
-    workPa_ += simpson(prev_.Pa, mid.Pa, end.Pa, prev_.s, mid.s, end.s, prev_.sdot, mid.sdot, end.sdot, t1 - t0);
+    channelsAt(t1, w, d, end_);
+    channelsAt(0.5 * (t0 + t1), w, d, mid_);
+    const double h = t1 - t0;
+    workPy_ += simpson(prev_.Py * prev_.hdot, mid_.Py * mid_.hdot, end_.Py * end_.hdot, h);
     auto& M = res_.metrics;
-    // Peak P_y: max of delta (P_t grows with delta) where d(delta)/dt goes from + to -.
-    refine(prev_.ddelta, end.ddelta, t0, t1, w, d, [](const Channels& c) { return c.Py; }, M.peak_load_N, &M.t_peak_s,
-           end.Py, end.t);
-    refine(prev_.ddelta, end.ddelta, t0, t1, w, d, [](const Channels& c) { return c.delta; }, M.tyre_deflection_max_m,
-           nullptr, end.delta, end.t);
-    double tS = -1, tH = -1;
-    if (refine(prev_.sdot, end.sdot, t0, t1, w, d, [](const Channels& c) { return c.s; }, M.stroke_max_m, &tS, end.s, end.t)) {
-      workPaAtMax_ = workPa_ - (tS < t1 ? partial(t0, tS, t1, w, d, false) : 0.0);
+    // Peak P_y where its rate (the sum of the tyres' P_t') goes from + to -.
+    refine(prev_.PyDot, end_.PyDot, t0, t1, w, d, [](const Channels& c) { return c.Py; }, M.peak_load_N, &M.t_peak_s,
+           end_.Py, t1);
+    for (size_t k = 0; k < M.tyres.size(); ++k) {
+      // P_t grows with delta: both peak where delta' goes from + to -.
+      auto& T = M.tyres[k];
+      refine(prev_.ddelta[k], end_.ddelta[k], t0, t1, w, d, [k](const Channels& c) { return c.delta[k]; },
+             T.deflection_max_m, nullptr, end_.delta[k], t1);
+      refine(prev_.ddelta[k], end_.ddelta[k], t0, t1, w, d, [k](const Channels& c) { return c.Pt[k]; }, T.load_max_N,
+             nullptr, end_.Pt[k], t1);
     }
-    if (refine(prev_.hdot, end.hdot, t0, t1, w, d, [](const Channels& c) { return c.h; }, M.h_max_m, &tH, end.h, end.t)) {
-      workPyAtMax_ = workPy_ - (tH < t1 ? partial(t0, tH, t1, w, d, true) : 0.0);
+    for (size_t k = 0; k < M.struts.size(); ++k) {
+      auto& S = M.struts[k];
+      workPa_[k] += simpson(prev_.Pa[k] * prev_.sdot[k], mid_.Pa[k] * mid_.sdot[k], end_.Pa[k] * end_.sdot[k], h);
+      double tS = -1;
+      if (refine(prev_.sdot[k], end_.sdot[k], t0, t1, w, d, [k](const Channels& c) { return c.s[k]; }, S.stroke_max_m,
+                 &tS, end_.s[k], t1))
+        workPaAtMax_[k] = workPa_[k] - (tS < t1 ? partialStrut(k, tS, t1, w, d) : 0.0);
+      // Peak P_a (no rate channel): where this step may hold a new maximum, search it on the dense output.
+      if (std::max(mid_.Pa[k], end_.Pa[k]) > S.force_max_N)
+        refine(1.0, -1.0, t0, t1, w, d, [k](const Channels& c) { return c.Pa[k]; }, S.force_max_N, nullptr,
+               std::max(mid_.Pa[k], end_.Pa[k]), t1);
+    }
+    double tH = -1;
+    if (prev_.hdot > 0 && end_.hdot <= 0) M.compression_ended = true;
+    if (refine(prev_.hdot, end_.hdot, t0, t1, w, d, [](const Channels& c) { return c.h; }, M.h_max_m, &tH, end_.h, t1)) {
+      workPyAtMax_ = workPy_ - (tH < t1 ? partialGear(tH, t1, w, d) : 0.0);
       tHmax_ = tH;
-      hMinAfter_ = std::numeric_limits<double>::infinity();
+      reboundV_ = 0;  // a new maximum of h: the rebound starts again from there
     }
-    // Peak P_a (no rate channel): where this step may hold a new maximum, search it on the dense output.
-    if (std::max(mid.Pa, end.Pa) > M.strut_force_max_N)
-      refine(1.0, -1.0, t0, t1, w, d, [](const Channels& c) { return c.Pa; }, M.strut_force_max_N, nullptr,
-             std::max(mid.Pa, end.Pa), end.t);
-    if (s.t > tHmax_) hMinAfter_ = std::min(hMinAfter_, end.h);
+    // Rebound: the largest upward airframe velocity -h' after the compression; refined on the dense
+    // output where the step's midpoint is above both ends.
+    if (t1 > tHmax_) {
+      double v = std::max(0.0, -end_.hdot);
+      if (-mid_.hdot > v && -mid_.hdot > -prev_.hdot)
+        refine(1.0, -1.0, std::max(t0, tHmax_), t1, w, d, [](const Channels& c) { return -c.hdot; }, v, nullptr, v, t1);
+      reboundV_ = std::max(reboundV_, v);
+    }
     M.constraint_violation_max = std::max(M.constraint_violation_max, viol);
     checkBottom(s);
     // Restore the workspace's kinematics and outputs at the step's end for the record.
     kinematics(m, s.y, w);
-    {
-      const Kins<double> K = w.kins();
-      for (size_t f = 0; f < m.forces.size(); ++f)
-        std::visit([&](const auto& e) { e.outputs(K, w.outputs.data() + m.outputOffset[f]); }, m.forces[f].type);
-    }
-    const Channels after = channels(s.t, w);  // after any jump: the next step's start
-    M.strut_force_max_N = std::max(M.strut_force_max_N, after.Pa);
-    if (opt_.record) res_.samples.push_back({after.t, after.Py, after.s, after.h, after.delta, after.Pa, lam, viol});
-    prev_ = after;
+    forceOutputs(w);
+    channels(s.t, w, after_);  // after any jump: the next step's start
+    for (size_t k = 0; k < M.struts.size(); ++k) M.struts[k].force_max_N = std::max(M.struts[k].force_max_N, after_.Pa[k]);
+    if (opt_.record) record(s, w, after_);
+    std::swap(prev_, after_);
     ++steps_;
   }
 
@@ -161,26 +206,85 @@ class DropObserver {
     const double uExt = externalPotential(w);
     const double input = ek0_ + std::abs(uExt0_ - uExt);
     M.energy_balance_error = std::abs(e.total() - e0_) / std::max(input, 1e-300);
-    M.energy_absorbed_J = e.dissipated;
+    M.energy_dissipated_J = e.dissipated;
+    M.energy_absorbed_J = workPyAtMax_;
     double G = 0;
     for (const auto& b : m_.bodies) G += b.mass;
+    M.sink_speed_mps = case_.sinkSpeed;
+    M.lift_ratio = case_.liftRatio;
+    M.mass_kg = G;
+    M.energy_to_absorb_J = 0.5 * G * case_.sinkSpeed * case_.sinkSpeed + (1 - case_.liftRatio) * G * sc_.gravity * M.h_max_m;
     M.load_factor = M.peak_load_N / (G * sc_.gravity);
+    M.inertia_load_factor = M.load_factor + case_.liftRatio;
     M.efficiency = (M.peak_load_N > 0 && M.h_max_m > 0) ? workPyAtMax_ / (M.peak_load_N * M.h_max_m) : 0.0;
-    M.strut_efficiency =
-        (M.strut_force_max_N > 0 && M.stroke_max_m > 0) ? workPaAtMax_ / (M.strut_force_max_N * M.stroke_max_m) : 0.0;
-    M.rebound_h_min_m = std::isfinite(hMinAfter_) ? hMinAfter_ : M.h_max_m;
+    M.rebound_velocity_mps = reboundV_;
+    // Per strut and tyre, then the gear's worst.
+    M.stroke_max_m = M.strut_force_max_N = 0;
+    M.strut_efficiency = M.struts.empty() ? 0.0 : std::numeric_limits<double>::infinity();
+    M.stroke_margin_m = kNaN;
+    for (size_t k = 0; k < M.struts.size(); ++k) {
+      auto& S = M.struts[k];
+      S.work_J = workPaAtMax_[k];
+      S.efficiency = (S.force_max_N > 0 && S.stroke_max_m > 0) ? S.work_J / (S.force_max_N * S.stroke_max_m) : 0.0;
+      S.stroke_margin_m = S.stroke_limit_m - S.stroke_max_m;  // NaN without a bottoming stop
+      M.stroke_max_m = std::max(M.stroke_max_m, S.stroke_max_m);
+      M.strut_force_max_N = std::max(M.strut_force_max_N, S.force_max_N);
+      M.strut_efficiency = std::min(M.strut_efficiency, S.efficiency);
+      if (!std::isnan(S.stroke_margin_m))
+        M.stroke_margin_m = std::isnan(M.stroke_margin_m) ? S.stroke_margin_m : std::min(M.stroke_margin_m, S.stroke_margin_m);
+    }
+    M.tyre_deflection_max_m = 0;
+    M.tyre_margin_m = kNaN;
+    for (auto& T : M.tyres) {
+      T.margin_m = T.deflection_limit_m - T.deflection_max_m;
+      M.tyre_deflection_max_m = std::max(M.tyre_deflection_max_m, T.deflection_max_m);
+      M.tyre_margin_m = std::isnan(M.tyre_margin_m) ? T.margin_m : std::min(M.tyre_margin_m, T.margin_m);
+    }
   }
 
  private:
-  void record(const State<double>& s, const Workspace<double>& w, const Channels& c) {
-    if (opt_.record) res_.samples.push_back({c.t, c.Py, c.s, c.h, c.delta, c.Pa, stopForces(s, w), violation(s, w)});
+  // Channels at the workspace's current kinematics (outputs must be current).
+  void channels(double t, const Workspace<double>& w, Channels& c) const {
+    c.t = t;
+    c.Py = c.PyDot = 0;
+    for (size_t k = 0; k < tyreOut_.size(); ++k) {
+      const double* o = w.outputs.data() + tyreOut_[k];  // delta, P_t, delta', P_t'
+      c.delta[k] = o[0];
+      c.Pt[k] = o[1];
+      c.ddelta[k] = o[2];
+      c.Py += o[1];
+      c.PyDot += o[3];
+    }
+    for (size_t k = 0; k < strutOut_.size(); ++k) {
+      const double* o = w.outputs.data() + strutOut_[k];  // s, s', p_1, P_a, ...
+      c.s[k] = o[0];
+      c.sdot[k] = o[1];
+      c.Pa[k] = o[3];
+    }
+    c.h = c.hdot = 0;
+    if (airframe_ >= 0) {
+      c.h = sc_.up.dot(r0_ - w.kin[airframe_].r);
+      c.hdot = -sc_.up.dot(w.kin[airframe_].v);
+    }
   }
-  // Stop force [N] = lambda |dC/dp| (the distance stop's C is in m^2).
-  std::vector<double> stopForces(const State<double>& s, const Workspace<double>& w) const {
-    std::vector<double> out;
-    if (!opt_.record) return out;
-    for (int r : stopRows_) out.push_back(s.lambda[r] * w.rows[r].Ji.head<3>().norm());
-    return out;
+  void forceOutputs(Workspace<double>& w) const {
+    const Kins<double> K = w.kins();
+    for (size_t f = 0; f < m_.forces.size(); ++f)
+      std::visit([&](const auto& e) { e.outputs(K, w.outputs.data() + m_.outputOffset[f]); }, m_.forces[f].type);
+  }
+  // Channels on the dense output at time t (poses and force outputs only: no solve). The workspace's
+  // kinematics are restored at the step's end by onStep.
+  void channelsAt(double t, Workspace<double>& w, const DenseOutput<double>& d, Channels& c) {
+    d.at(t, ytmp_);
+    poses(m_, ytmp_, w);
+    forceOutputs(w);
+    channels(t, w, c);
+  }
+  void record(const State<double>& s, const Workspace<double>& w, const Channels& c) {
+    std::vector<double> lam;
+    for (int r : stopRows_) lam.push_back(s.lambda[r] * w.rows[r].Ji.head<3>().norm());  // [N]: C is in m^2
+    res_.samples.push_back({c.t, c.Py, c.s.empty() ? 0.0 : c.s[0], c.h, c.delta.empty() ? 0.0 : c.delta[0],
+                            c.Pa.empty() ? 0.0 : c.Pa[0], std::move(lam), violation(s, w)});
   }
   double violation(const State<double>& s, const Workspace<double>& w) const {
     double v = 0;
@@ -203,16 +307,26 @@ class DropObserver {
     }
     return U;
   }
-  // Simpson's rule for integral(P dx) = integral(P xdot dt) over one step.
-  static double simpson(double P0, double Pm, double P1, double, double, double, double v0, double vm, double v1, double h) {
-    return h / 6.0 * (P0 * v0 + 4 * Pm * vm + P1 * v1);
-  }
+  // Simpson's rule for integral(P dx) = integral(P xdot dt) over one step of length h.
+  static double simpson(double f0, double fm, double f1, double h) { return h / 6.0 * (f0 + 4 * fm + f1); }
   // The part of this step's integral after time t (Simpson on [t, t1]).
-  double partial(double t0, double t, double t1, Workspace<double>& w, const DenseOutput<double>& d, bool py) {
-    (void)t0;
-    Channels a = channelsAt(t, w, d), m = channelsAt(0.5 * (t + t1), w, d), b = channelsAt(t1, w, d);
-    return py ? simpson(a.Py, m.Py, b.Py, 0, 0, 0, a.hdot, m.hdot, b.hdot, t1 - t)
-              : simpson(a.Pa, m.Pa, b.Pa, 0, 0, 0, a.sdot, m.sdot, b.sdot, t1 - t);
+  double partialGear(double t, double t1, Workspace<double>& w, const DenseOutput<double>& d) {
+    Channels& a = scratch_;
+    channelsAt(t, w, d, a);
+    const double fa = a.Py * a.hdot;
+    channelsAt(0.5 * (t + t1), w, d, a);
+    const double fm = a.Py * a.hdot;
+    channelsAt(t1, w, d, a);
+    return simpson(fa, fm, a.Py * a.hdot, t1 - t);
+  }
+  double partialStrut(size_t k, double t, double t1, Workspace<double>& w, const DenseOutput<double>& d) {
+    Channels& a = scratch_;
+    channelsAt(t, w, d, a);
+    const double fa = a.Pa[k] * a.sdot[k];
+    channelsAt(0.5 * (t + t1), w, d, a);
+    const double fm = a.Pa[k] * a.sdot[k];
+    channelsAt(t1, w, d, a);
+    return simpson(fa, fm, a.Pa[k] * a.sdot[k], t1 - t);
   }
   // Updates the running maximum 'best' of a channel. If its rate goes from + to - inside the step, the
   // maximum is located on the dense output (golden section). Returns true if the maximum moved.
@@ -221,26 +335,30 @@ class DropObserver {
               double& best, double* tBest, double endValue, double tEnd) {
     double v = endValue, tv = tEnd;
     if (rate0 > 0 && rate1 < 0) {
+      auto at = [&](double t) {
+        channelsAt(t, w, d, scratch_);
+        return f(scratch_);
+      };
       const double gr = 0.5 * (std::sqrt(5.0) - 1);
       double a = t0, b = t1;
       double c = b - gr * (b - a), e = a + gr * (b - a);
-      double fc = f(channelsAt(c, w, d)), fe = f(channelsAt(e, w, d));
+      double fc = at(c), fe = at(e);
       for (int it = 0; it < 60 && b - a > 1e-13 * std::max(1.0, t1); ++it) {
         if (fc > fe) {
           b = e;
           e = c;
           fe = fc;
           c = b - gr * (b - a);
-          fc = f(channelsAt(c, w, d));
+          fc = at(c);
         } else {
           a = c;
           c = e;
           fc = fe;
           e = a + gr * (b - a);
-          fe = f(channelsAt(e, w, d));
+          fe = at(e);
         }
       }
-      const double tm = 0.5 * (a + b), vm = f(channelsAt(tm, w, d));
+      const double tm = 0.5 * (a + b), vm = at(tm);
       if (vm > v) {
         v = vm;
         tv = tm;
@@ -256,16 +374,18 @@ class DropObserver {
 
   const Scene& sc_;
   const Model<double>& m_;
+  const DropCase& case_;
   const CaseOptions& opt_;
   CaseResult& res_;
-  int airframe_ = -1, strutOut_ = -1;
-  std::vector<int> tyreOut_, stopRows_, bottomRows_;
+  int airframe_ = -1;
+  std::vector<int> tyreOut_, strutOut_, stopRows_, bottomRows_;
   Vec3<double> r0_ = Vec3<double>::Zero();
   VecX<double> ytmp_;
-  Channels prev_{};
+  Channels prev_, end_, mid_, after_, scratch_;
   double e0_ = 0, ek0_ = 0, uExt0_ = 0;
-  double workPy_ = 0, workPa_ = 0, workPyAtMax_ = 0, workPaAtMax_ = 0;
-  double tHmax_ = 0, hMinAfter_ = 0;
+  double workPy_ = 0, workPyAtMax_ = 0;
+  std::vector<double> workPa_, workPaAtMax_;
+  double tHmax_ = 0, reboundV_ = 0;
   long steps_ = 0;
 };
 
@@ -279,7 +399,7 @@ CaseResult runCase(const Scene& scene, const DropCase& c, const CaseOptions& opt
   const Model<double> m = caseModel(scene, c);
   State<double> s = caseState(scene, m, c);
   Workspace<double> w(m);
-  DropObserver obs(scene, m, opt, res);
+  DropObserver obs(scene, m, c, opt, res);
   const RunStatus st = simulate(m, s, w, c.duration, obs);
   obs.finish(s, w);
   res.metrics.ok = st.ok;
@@ -289,7 +409,7 @@ CaseResult runCase(const Scene& scene, const DropCase& c, const CaseOptions& opt
   res.metrics.constraint_violation_max = std::max(res.metrics.constraint_violation_max, st.maxPositionViolation);
   auto& M = res.metrics;
   for (double v : {M.peak_load_N, M.stroke_max_m, M.h_max_m, M.tyre_deflection_max_m, M.efficiency, M.strut_efficiency,
-                   M.energy_absorbed_J, M.energy_balance_error})
+                   M.energy_absorbed_J, M.energy_dissipated_J, M.energy_balance_error, M.rebound_velocity_mps})
     if (!std::isfinite(v) && M.ok) {
       M.ok = false;
       M.message = "non-finite result";
@@ -300,10 +420,33 @@ CaseResult runCase(const Scene& scene, const DropCase& c, const CaseOptions& opt
 
 std::vector<CaseResult> runCases(const Scene& scene, const std::vector<DropCase>& cases, int threads,
                                  const CaseOptions& opt) {
+  // Cases that differ only by name (same sink speed, lift ratio, duration and effective masses: a
+  // scene's "limit" and the matrix's limit case, say) run once; their results are copied, renamed.
+  auto key = [&](const DropCase& c) {
+    std::vector<double> k{c.sinkSpeed, c.liftRatio, c.duration};
+    for (const auto& b : scene.model.bodies) {
+      const auto it = c.masses.find(b.name);
+      k.push_back(it == c.masses.end() ? b.mass : it->second);
+    }
+    return k;
+  };
+  std::vector<int> first(cases.size());
+  std::vector<int> unique;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    first[i] = static_cast<int>(i);
+    for (int u : unique)
+      if (key(cases[u]) == key(cases[i])) first[i] = u;
+    if (first[i] == static_cast<int>(i)) unique.push_back(static_cast<int>(i));
+  }
   std::vector<CaseResult> out(cases.size());
-  const int n = static_cast<int>(cases.size());
+  const int n = static_cast<int>(unique.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, threads))
-  for (int i = 0; i < n; ++i) out[i] = runCase(scene, cases[i], opt);
+  for (int i = 0; i < n; ++i) out[unique[i]] = runCase(scene, cases[unique[i]], opt);
+  for (size_t i = 0; i < cases.size(); ++i)
+    if (first[i] != static_cast<int>(i)) {
+      out[i] = out[first[i]];
+      out[i].metrics.name = cases[i].name;
+    }
   return out;
 }
 

@@ -1,8 +1,10 @@
 // Drop tests of a gear scene: one case is one run of the engine from touchdown, with the outputs
-// seed-gear.md asks for (time histories, peaks, efficiencies, energy balance).
+// seed-gear.md asks for (time histories, peaks, efficiencies, energy balance) and the limits a
+// loads engineer checks (stroke left to each bottoming stop, each tyre's deflection limit).
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -11,28 +13,67 @@
 
 namespace lg {
 
-// Per-case figures (definitions in seed-gear.md). Peaks are refined on the dense output.
+// One shock absorber over a drop (its own stroke, force and efficiency: a twin-strut gear is never
+// measured on its first strut alone).
+struct StrutMetrics {
+  std::string name;
+  double stroke_max_m = 0;      // max s
+  double stroke_limit_m = std::numeric_limits<double>::quiet_NaN();  // S_max at its bottoming stop (NaN: none)
+  double stroke_margin_m = std::numeric_limits<double>::quiet_NaN(); // S_max - s_max (NaN: no bottoming stop)
+  double force_max_N = 0;       // max P_a
+  double efficiency = 0;        // eta_s = integral(P_a ds) / (P_a,max s_max), integral up to s_max
+  double work_J = 0;            // integral(P_a ds) up to s_max
+};
+
+// One tyre over a drop.
+struct TyreMetrics {
+  std::string name;
+  double deflection_max_m = 0;  // max delta
+  double deflection_limit_m = 0;  // delta_max of the tyre
+  double margin_m = 0;          // delta_max - max delta (negative: over its limit)
+  double load_max_N = 0;        // max P_t
+};
+
+// Per-case figures (definitions in seed-gear.md and README "Metrics"). Peaks are refined on the dense
+// output; the compression integrals run from touchdown to the maximum they are normalised by.
 struct CaseMetrics {
   std::string name;
   bool ok = true;
   std::string message;                 // why a run failed
-  double peak_load_N = 0;              // max P_y (sum of the tyre loads)
+  double sink_speed_mps = 0;           // V_y0 of the case
+  double lift_ratio = 0;               // L of the case
+  double mass_kg = 0;                  // W: total mass of the scene in this case
+  double peak_load_N = 0;              // max P_y, P_y = sum of the tyre loads
   double t_peak_s = 0;
-  double load_factor = 0;              // P_y,max / (G g)
-  double stroke_max_m = 0;             // max s (first strut)
+  double load_factor = 0;              // n_g = P_y,max / (W g)
+  double inertia_load_factor = 0;      // n = n_g + L (Part 23, 23.473)
+  double stroke_max_m = 0;             // max over the struts of their max stroke
+  double stroke_margin_m = std::numeric_limits<double>::quiet_NaN();  // min over struts of S_max - s_max
   double h_max_m = 0;                  // max airframe displacement
-  double tyre_deflection_max_m = 0;    // max delta
-  double efficiency = 0;               // integral(P_y dh) / (P_y,max h_max) over the compression
-  double strut_efficiency = 0;         // integral(P_a ds) / (P_a,max s_max) over the compression
-  double energy_absorbed_J = 0;        // dissipated by orifices, friction and impacts
-  double energy_balance_error = 0;     // |E(t_end) - E(0)| / E_kin(0)
+  double tyre_deflection_max_m = 0;    // max over the tyres of their max deflection
+  double tyre_margin_m = std::numeric_limits<double>::quiet_NaN();  // min over tyres of delta_max - delta
+  double efficiency = 0;               // eta = integral(P_y dh) / (P_y,max h_max), integral up to h_max
+  double strut_efficiency = 0;         // min over the struts of eta_s
+  double strut_force_max_N = 0;        // max over the struts of P_a,max
+  double energy_absorbed_J = 0;        // work of the gear over the compression: integral(P_y dh) up to h_max
+  double energy_to_absorb_J = 0;       // E = W V^2 / 2 + (1 - L) W g h_max (certification.md)
+  double energy_dissipated_J = 0;      // dissipated by orifices, friction and impacts over the whole run
+  double energy_balance_error = 0;     // |E(T) - E(0)| / (E_kin(0) + |U_ext(T) - U_ext(0)|), E = kinetic +
+                                       // stored + dissipated, U_ext the potential of gravity and lift
   double constraint_violation_max = 0; // [m] largest |C| of an enforced row seen at a step end
-  double strut_force_max_N = 0;        // max P_a
-  double rebound_h_min_m = 0;          // min h after the compression (rebound height; negative = above touchdown)
+  double rebound_velocity_mps = 0;     // largest upward airframe velocity after the compression (>= 0)
+  bool compression_ended = false;      // h reached its maximum within the duration
   bool bottomed = false;               // a stop of the "no nearer" form was ever enforced
+  std::vector<StrutMetrics> struts;
+  std::vector<TyreMetrics> tyres;
   long steps = 0;
   long rhs_evaluations = 0;
   double wall_time_s = 0;
+
+  // Within every declared limit: no bottoming, every stroke margin >= 0, every tyre within delta_max.
+  bool withinLimits() const;
+  // The limits it breaks, for people ("bottomed", "tyre 0.1096 m > delta_max 0.1 m"); empty if none.
+  std::string limitViolations() const;
 };
 
 // One time-history sample.
@@ -51,9 +92,10 @@ struct CaseResult {
   CaseMetrics metrics;
   std::vector<Sample> samples;
   std::vector<std::string> stopNames;
-  std::vector<double> initialEnergy;  // unused placeholder for future reporting
 };
 
+// The total mass [kg] of a case: the scene's bodies with the case's mass overrides.
+double caseMass(const Scene& scene, const DropCase& c);
 // The model of a case: the scene's model with the case's masses and lift applied.
 Model<double> caseModel(const Scene& scene, const DropCase& c);
 // Initial state of a case: scene positions, every body moving at sinkSpeed against gravity.

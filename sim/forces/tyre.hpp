@@ -4,6 +4,8 @@
 // applied along the ground normal n at the wheel point p (the axle centre).
 //   stored energy  K (delta^2/2 + alpha delta^4 / (4 delta_max^2))  for delta > 0.
 // Contact start and end (delta crossing 0) is an event: P_t has a kink there.
+// Outputs: delta, P_t, their rates delta' = -n . v_p and P_t' = K (1 + 3 alpha (delta/delta_max)^2) delta'
+// (0 out of contact): the drop-test observer locates the peaks of P_y and delta where the rates change sign.
 #pragma once
 
 #include <string>
@@ -44,10 +46,14 @@ template <class S> struct Tyre {
   }
   void events(const Kins<S>& K_, S* g) const { g[0] = deflection(K_); }
   void damping(const Kins<S>&, DampingTerm<S>*) const {}
-  static std::vector<std::string> outputNames() { return {"delta", "P_t"}; }
+  static std::vector<std::string> outputNames() { return {"delta", "P_t", "delta_dot", "P_t_dot"}; }
   void outputs(const Kins<S>& K_, S* out) const {
+    const BodyKin<S>& b = K_[body];
     out[0] = deflection(K_);
     out[1] = load(out[0]);
+    out[2] = -normal.dot(b.pointVelocity(b.R * rho));
+    const S x = positivePart(out[0]) / deltaMax;
+    out[3] = isPositive(out[0]) ? K * (S(1) + S(3) * alpha * x * x) * out[2] : S(0);
   }
   template <class T> Tyre<T> cast() const {
     return {body, castVec<T>(rho), castVec<T>(normal), T(groundHeight), T(radius), T(K), T(deltaMax), T(alpha)};

@@ -9,24 +9,6 @@
 
 namespace lg {
 
-std::string jsonString(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\', o += c;
-    else if (c == '\n') o += "\\n";
-    else if (static_cast<unsigned char>(c) < 0x20) o += ' ';
-    else o += c;
-  }
-  return o + "\"";
-}
-
-std::string jsonNumber(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
 std::vector<std::string> historyColumns(const Scene& scene) {
   std::vector<std::string> c{"t"};
   if (!scene.roles.tyres.empty()) c.push_back("P_y");
@@ -73,20 +55,48 @@ std::string metricsJson(const CaseMetrics& m, const std::string& in) {
   auto num = [&](const char* k, double v, bool last = false) {
     o << in << "  \"" << k << "\": " << jsonNumber(v) << (last ? "\n" : ",\n");
   };
+  num("sink_speed_mps", m.sink_speed_mps);
+  num("lift_ratio", m.lift_ratio);
+  num("mass_kg", m.mass_kg);
   num("peak_load_N", m.peak_load_N);
   num("t_peak_s", m.t_peak_s);
   num("load_factor", m.load_factor);
+  num("inertia_load_factor", m.inertia_load_factor);
   num("stroke_max_m", m.stroke_max_m);
+  num("stroke_margin_m", m.stroke_margin_m);
   num("h_max_m", m.h_max_m);
   num("tyre_deflection_max_m", m.tyre_deflection_max_m);
+  num("tyre_margin_m", m.tyre_margin_m);
   num("efficiency", m.efficiency);
   num("strut_efficiency", m.strut_efficiency);
   num("strut_force_max_N", m.strut_force_max_N);
   num("energy_absorbed_J", m.energy_absorbed_J);
+  num("energy_to_absorb_J", m.energy_to_absorb_J);
+  num("energy_dissipated_J", m.energy_dissipated_J);
   num("energy_balance_error", m.energy_balance_error);
   num("constraint_violation_max", m.constraint_violation_max);
-  num("rebound_h_min_m", m.rebound_h_min_m);
+  num("rebound_velocity_mps", m.rebound_velocity_mps);
+  o << in << "  \"compression_ended\": " << (m.compression_ended ? "true" : "false") << ",\n";
   o << in << "  \"bottomed\": " << (m.bottomed ? "true" : "false") << ",\n";
+  o << in << "  \"limits\": {\"within\": " << (m.withinLimits() ? "true" : "false")
+    << ", \"violations\": " << jsonString(m.limitViolations()) << "},\n";
+  o << in << "  \"struts\": [";
+  for (size_t k = 0; k < m.struts.size(); ++k) {
+    const auto& s = m.struts[k];
+    o << (k ? ", " : "") << "{\"name\": " << jsonString(s.name) << ", \"stroke_max_m\": " << jsonNumber(s.stroke_max_m)
+      << ", \"stroke_limit_m\": " << jsonNumber(s.stroke_limit_m) << ", \"stroke_margin_m\": " << jsonNumber(s.stroke_margin_m)
+      << ", \"force_max_N\": " << jsonNumber(s.force_max_N) << ", \"efficiency\": " << jsonNumber(s.efficiency)
+      << ", \"work_J\": " << jsonNumber(s.work_J) << "}";
+  }
+  o << "],\n";
+  o << in << "  \"tyres\": [";
+  for (size_t k = 0; k < m.tyres.size(); ++k) {
+    const auto& t = m.tyres[k];
+    o << (k ? ", " : "") << "{\"name\": " << jsonString(t.name) << ", \"deflection_max_m\": " << jsonNumber(t.deflection_max_m)
+      << ", \"deflection_limit_m\": " << jsonNumber(t.deflection_limit_m) << ", \"margin_m\": " << jsonNumber(t.margin_m)
+      << ", \"load_max_N\": " << jsonNumber(t.load_max_N) << "}";
+  }
+  o << "],\n";
   o << in << "  \"steps\": " << m.steps << ",\n";
   o << in << "  \"rhs_evaluations\": " << m.rhs_evaluations << ",\n";
   num("wall_time_s", m.wall_time_s, true);
@@ -103,51 +113,6 @@ void writeSummaryJson(const Scene& scene, const std::vector<CaseResult>& results
         << (i + 1 < results.size() ? ",\n" : "\n");
   }
   out << "  }\n}\n";
-}
-
-bool writePlots(const Scene& scene, const CaseResult& r, const std::string& csvPath, const std::string& outDir,
-                std::string* why) {
-  if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
-    if (why) *why = "gnuplot is not installed (scripts/setup.sh installs gnuplot-nox)";
-    return false;
-  }
-  const auto cols = historyColumns(scene);
-  auto col = [&](const std::string& n) {
-    for (size_t i = 0; i < cols.size(); ++i)
-      if (cols[i] == n) return static_cast<int>(i) + 1;
-    return 0;
-  };
-  const std::string name = r.metrics.name;
-  const std::string script = outDir + "/" + name + ".gp";
-  std::ofstream gp(script);
-  gp << "set datafile separator ','\nset terminal pngcairo size 1200,900 noenhanced\n";
-  gp << "set output '" << outDir << "/" << name << ".png'\n";
-  gp << "set multiplot layout 2,2 title 'drop test: " << name << "'\nset grid\n";
-  auto plot = [&](const std::string& x, const std::string& y, const std::string& title, const std::string& xl,
-                  const std::string& yl, double scale) {
-    if (!col(x) || !col(y)) {
-      gp << "set multiplot next\n";
-      return;
-    }
-    gp << "set title '" << title << "'\nset xlabel '" << xl << "'\nset ylabel '" << yl << "'\n";
-    gp << "plot '" << csvPath << "' every ::1 using " << col(x) << ":($" << col(y) << "*" << scale
-       << ") with lines lw 2 notitle\n";
-  };
-  plot("t", "P_y", "vertical ground load P_y(t)", "t [s]", "P_y [kN]", 1e-3);
-  plot("t", "s", "shock-absorber stroke s(t)", "t [s]", "s [m]", 1.0);
-  plot("t", "h", "airframe displacement h(t)", "t [s]", "h [m]", 1.0);
-  if (col("h") && col("P_y")) {
-    gp << "set title 'work diagram P_y(h)'\nset xlabel 'h [m]'\nset ylabel 'P_y [kN]'\n";
-    gp << "plot '" << csvPath << "' every ::1 using " << col("h") << ":($" << col("P_y") << "*1e-3) with lines lw 2 notitle\n";
-  }
-  gp << "unset multiplot\n";
-  gp.close();
-  const int rc = std::system(("gnuplot '" + script + "' 2>/dev/null").c_str());
-  if (rc != 0) {
-    if (why) *why = "gnuplot failed on " + script;
-    return false;
-  }
-  return true;
 }
 
 }  // namespace lg

@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 
+#include "sim/certification.hpp"
 #include "sim/engine.hpp"
 #include "sim/io/toml_reader.hpp"
 
@@ -66,6 +67,20 @@ std::shared_ptr<const Table1D> readTable(const std::string& path, const TomlRead
   return std::make_shared<Table1D>(std::move(x), std::move(y), path);
 }
 
+// The bottoming stop of a strut: a "min_distance" stop between the strut's own two points (in either
+// order), -1 if the scene has none.
+int bottomingStopOf(const Model<double>& m, const ShockAbsorber<double>& s) {
+  auto same = [](const Vec3<double>& a, const Vec3<double>& b) { return (a - b).norm() <= 1e-9; };
+  for (int c = 0; c < static_cast<int>(m.constraints.size()); ++c)
+    if (const auto* st = std::get_if<DistanceStop<double>>(&m.constraints[c].type)) {
+      if (st->noFarther) continue;
+      if ((st->bi == s.bi && st->bj == s.bj && same(st->rho_i, s.rho_i) && same(st->rho_j, s.rho_j)) ||
+          (st->bi == s.bj && st->bj == s.bi && same(st->rho_i, s.rho_j) && same(st->rho_j, s.rho_i)))
+        return c;
+    }
+  return -1;
+}
+
 }  // namespace
 
 Scene buildScene(const toml::table& doc, const std::string& file, const std::string& baseDir) {
@@ -74,11 +89,11 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   sc.doc = doc;
   Model<double>& m = sc.model;
   {
-    const std::set<std::string> top{"scene", "solver", "body", "joint", "stop", "force", "case"};
+    const std::set<std::string> top{"scene", "solver", "body", "joint", "stop", "force", "case", "certification"};
     for (const auto& [k, v] : doc)
       if (!top.count(std::string(k.str())))
         throw InputError(file, static_cast<int>(v.source().begin.line), std::string(k.str()),
-                         "unknown top-level key (allowed: scene, solver, body, joint, stop, force, case)");
+                         "unknown top-level key (allowed: scene, solver, body, joint, stop, force, case, certification)");
   }
   // [scene]
   std::string airframe;
@@ -244,6 +259,21 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     m.constraints.push_back(c);
     constraintLine.push_back(r.line());
   }
+  // A "no nearer" (bottoming) stop on the same two points as a "no farther" (extension) stop must be
+  // shorter than it, or the two leave no stroke between them.
+  for (size_t a = 0; a < stops.size(); ++a)
+    for (size_t b = 0; b < stops.size(); ++b) {
+      const auto& A = std::get<DistanceStop<double>>(m.constraints[sc.roles.stops[a]].type);
+      const auto& B = std::get<DistanceStop<double>>(m.constraints[sc.roles.stops[b]].type);
+      if (A.noFarther || !B.noFarther) continue;
+      auto same = [](const Vec3<double>& x, const Vec3<double>& y) { return (x - y).norm() <= 1e-9; };
+      const bool samePoints = (A.bi == B.bi && A.bj == B.bj && same(A.rho_i, B.rho_i) && same(A.rho_j, B.rho_j)) ||
+                              (A.bi == B.bj && A.bj == B.bi && same(A.rho_i, B.rho_j) && same(A.rho_j, B.rho_i));
+      if (samePoints && !(A.L < B.L))
+        TomlReader(*stops[a], file, "stop[" + std::to_string(a) + "]")
+            .fail("min_distance", "value " + fmt(A.L) + " m must be shorter than the max_distance " + fmt(B.L) +
+                                      " m of stop '" + m.constraints[sc.roles.stops[b]].name + "' on the same points");
+    }
   // [[force]]
   const auto forcesT = tablesOf(doc, "force", file);
   Vec3<double> g = Vec3<double>::Zero();
@@ -282,6 +312,9 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       s.rho_i = toBody(s.bi, B);
       s.rho_j = toBody(s.bj, C);
       s.L0 = r.positive("L0", (B - C).norm());
+      if (std::abs(s.L0 - (B - C).norm()) > 1e-6)
+        r.fail("L0", "value " + fmt(s.L0) + " m differs from the distance of rod_point and cylinder_point at touchdown, " +
+                         fmt((B - C).norm()) + " m: the strut starts fully extended (s = 0); leave L0 out or correct the points");
       s.D = r.positive("D");
       s.D2 = r.positive("D2", s.D);
       if (!(s.D2 >= s.D)) r.fail("D2", "bore " + fmt(s.D2) + " must be >= rod diameter D = " + fmt(s.D));
@@ -306,27 +339,43 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       s.pAtm = r.nonNegative("p_atm", 0.0);
       if (!(s.pAtm < s.p01)) r.fail("p_atm", "value " + fmt(s.pAtm) + " must be < p01 = " + fmt(s.p01) + " (the gas must push the rod out)");
       s.frictionVelocity = r.positive("friction_velocity", 1e-3);
-      if (s.f1Table) {
-        // The table must cover every stroke the strut can reach: up to a "no nearer" stop between the
-        // same bodies if there is one, else up to the stroke that would exhaust the gas volume.
-        double reach = std::min(s.L0, s.Omega0 / (M_PI * s.D * s.D / 4));
-        for (const auto& c : m.constraints)
-          if (const auto* st = std::get_if<DistanceStop<double>>(&c.type))
-            if (!st->noFarther && ((st->bi == s.bi && st->bj == s.bj) || (st->bi == s.bj && st->bj == s.bi)))
-              reach = std::min(reach, s.L0 - st->L);
-        if (s.f1Table->xMax() < reach - 1e-12)
-          r.fail("f1_table", "table ends at stroke " + fmt(s.f1Table->xMax()) + " m but the strut can reach " + fmt(reach) + " m");
+      // The stroke the strut can reach: its bottoming stop's S_max, else the stroke that would exhaust
+      // the gas volume (or L0). The gas must outlast the bottoming stroke, and a table cover the reach.
+      const double F = M_PI * s.D * s.D / 4;
+      double reach = std::min(s.L0, s.Omega0 / F), strokeLimit = std::numeric_limits<double>::quiet_NaN();
+      const int stop = bottomingStopOf(m, s);
+      if (stop >= 0) {
+        const auto& st = std::get<DistanceStop<double>>(m.constraints[stop].type);
+        strokeLimit = s.L0 - st.L;
+        if (!(strokeLimit > 0))
+          r.fail("L0", "the bottoming stop '" + m.constraints[stop].name + "' (min_distance " + fmt(st.L) +
+                           " m) is not shorter than the extended strut, L0 = " + fmt(s.L0) + " m");
+        if (!(s.Omega0 > F * strokeLimit))
+          r.fail("Omega0", "gas volume " + fmt(s.Omega0) + " m^3 must be larger than the volume swept at the bottoming stroke, F S_max = " +
+                               fmt(F * strokeLimit) + " m^3 (F = pi D^2/4 = " + fmt(F) + " m^2, S_max = " + fmt(strokeLimit) +
+                               " m at stop '" + m.constraints[stop].name + "')");
+        reach = std::min(reach, strokeLimit);
       }
+      if (s.f1Table && s.f1Table->xMax() < reach - 1e-12)
+        r.fail("f1_table", "table ends at stroke " + fmt(s.f1Table->xMax()) + " m but the strut can reach " + fmt(reach) + " m");
       f.type = s;
       sc.roles.struts.push_back(static_cast<int>(m.forces.size()));
+      sc.roles.strokeLimits.push_back(strokeLimit);
+      sc.roles.bottomingStops.push_back(stop);
     } else if (type == "tyre") {
       r.allowOnly({"name", "type", "body", "point", "radius", "K", "delta_max", "alpha", "ground_normal", "ground_height"});
       Tyre<double> t;
       t.body = bodyRef(r, "body", false);
-      t.rho = toBody(t.body, r.vec3("point", poses[t.body].r));
+      const Vec3<double> centre = r.vec3("point", poses[t.body].r);
+      t.rho = toBody(t.body, centre);
       t.normal = r.unitVec3("ground_normal", Vec3<double>(0, 1, 0));
       t.groundHeight = r.number("ground_height", 0.0);
       t.radius = r.positive("radius");
+      const double clearance = t.normal.dot(centre) - t.groundHeight;  // [m] wheel centre above the ground
+      if (t.radius - clearance > 1e-6)
+        r.fail("radius", "the tyre is pressed " + fmt(t.radius - clearance) + " m into the ground at touchdown (radius " +
+                             fmt(t.radius) + " m, wheel centre " + fmt(clearance) +
+                             " m above the ground): at t = 0 it must just touch the ground or clear it");
       t.K = r.positive("K");
       t.deltaMax = r.positive("delta_max");
       t.alpha = r.nonNegative("alpha", 0.0);
@@ -403,7 +452,10 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     DropCase c;
     c.name = r.string("name");
     if (!caseNames.insert(c.name).second) r.fail("name", "case '" + c.name + "' is defined twice");
-    c.sinkSpeed = r.nonNegative("sink_speed", 0.0);
+    c.sinkSpeed = r.number("sink_speed");
+    if (!(c.sinkSpeed > 0))
+      r.fail("sink_speed", "value " + fmt(c.sinkSpeed) + " must be > 0 [m/s]: a drop starts moving (the efficiency and the "
+                           "energy balance are measured against the initial kinetic energy)");
     c.liftRatio = r.nonNegative("lift_ratio", 0.0);
     c.duration = r.positive("duration", 0.8);
     if (c.liftRatio > 0 && sc.roles.lifts.empty()) r.fail("lift_ratio", "the scene declares no lift element");
@@ -419,6 +471,9 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     }
     sc.cases.push_back(c);
   }
+  // [certification]: the drop-test matrix of the rules (sim/certification.hpp).
+  if (const toml::table* t = tableOf(doc, "certification", file))
+    sc.certification = std::make_shared<const Certification>(parseCertification(*t, file, sc));
   return sc;
 }
 

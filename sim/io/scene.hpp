@@ -4,6 +4,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -14,6 +15,8 @@
 #include "sim/core/state.hpp"
 
 namespace lg {
+
+struct Certification;  // sim/certification.hpp
 
 // Bad input: a message naming file, line, key and rule.
 class InputError : public std::runtime_error {
@@ -51,6 +54,9 @@ struct GearRoles {
   std::vector<int> tyres, struts;       // force element indices
   std::vector<int> stops;               // constraint indices of the unilateral stops
   std::vector<int> lifts;               // force element indices of lift elements
+  std::vector<double> strokeLimits;     // per strut: S_max [m], the stroke at its bottoming stop (a
+                                        // "min_distance" stop on the strut's own two points); NaN if none
+  std::vector<int> bottomingStops;      // per strut: that stop's constraint index, -1 if none
 };
 
 struct Scene {
@@ -63,6 +69,7 @@ struct Scene {
   GearRoles roles;
   double gravity = 9.80665;  // [m/s^2] |g|
   Vec3<double> up{0, 1, 0};  // -g / |g|
+  std::shared_ptr<const Certification> certification;  // the [certification] table, if declared
 };
 
 // The integrators by their scene-file names ("dopri5", "ros34pw2", "ros2", "rk4", "euler"); false if

@@ -1,0 +1,111 @@
+// certify SCENE [--basis NAME] [--out DIR] [--plots] [--threads N] [--quiet]
+// Runs the certification drop-test matrix of a scene's [certification] table (sim/certification.hpp)
+// and the scene's own cases as checks; writes DIR/compliance.json, DIR/compliance.md and, with
+// --plots, one picture per case with its limits drawn. Exit status: 0 every matrix case passes,
+// 1 a case fails (or an output could not be written), 2 bad input (nothing written).
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <thread>
+
+#include "sim/certification.hpp"
+#include "sim/io/compliance.hpp"
+#include "sim/io/files.hpp"
+#include "sim/io/plots.hpp"
+#include "sim/io/toml_reader.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"Certification drop tests: runs the scene's [certification] matrix and writes a compliance report"};
+  std::string scenePath, outDir = "compliance", basis;
+  bool plots = false, quiet = false;
+  int threads = 0;
+  app.add_option("scene", scenePath, "scene file (TOML) with a [certification] table")->required();
+  app.add_option("--basis", basis, "replace the table's basis: part25, cs25, part23, cs23, custom");
+  app.add_option("--out", outDir, "output directory (default: compliance)");
+  app.add_flag("--plots", plots, "draw one picture per case with its limits (gnuplot)");
+  app.add_option("--threads", threads, "threads over the cases (default 0: all cores)")->check(CLI::NonNegativeNumber);
+  app.add_flag("--quiet", quiet, "no table on the terminal");
+  CLI11_PARSE(app, argc, argv);
+
+  lg::Scene scene;
+  std::shared_ptr<const lg::Certification> spec;
+  try {
+    scene = lg::loadScene(scenePath);
+    const toml::table* t = scene.doc["certification"].as_table();
+    if (!t)
+      throw lg::InputError(scenePath, 0, "certification",
+                           "the scene has no [certification] table: add one with basis, landing_mass, limit_load_factor, "
+                           "... (README, \"Certification\")");
+    spec = basis.empty() ? scene.certification
+                         : std::make_shared<const lg::Certification>(lg::parseCertification(*t, scenePath, scene, basis));
+  } catch (const lg::InputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  }
+  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+
+  // The output directory exists and takes files before the first case runs.
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(outDir, ec);
+  if (ec || !fs::is_directory(outDir)) {
+    std::cerr << "error: cannot create output directory '" << outDir << "': " << ec.message() << "\n";
+    return 1;
+  }
+  try {
+    lg::writeFileAtomic((fs::path(outDir) / ".write-test").string(), "");
+    fs::remove(fs::path(outDir) / ".write-test", ec);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+
+  lg::CaseOptions opt;
+  opt.record = plots;
+  std::vector<lg::CaseResult> runs;
+  const lg::Compliance c = lg::assessCompliance(scene, *spec, threads, opt, &runs);
+  try {
+    std::string pictures;
+    if (plots) {
+      const fs::path pd = fs::path(outDir) / "plots";
+      fs::create_directories(pd);
+      const bool gp = lg::haveGnuplot();
+      if (!gp) pictures = "gnuplot was not found: the data and scripts are in `plots/` (run `gnuplot <case>.gp` there).\n";
+      std::vector<const lg::CaseVerdict*> all;
+      for (const auto& v : c.cases) all.push_back(&v);
+      for (const auto& v : c.checks) all.push_back(&v);
+      for (size_t i = 0; i < all.size(); ++i) {
+        const lg::CaseVerdict& v = *all[i];
+        lg::CaseFigure f;
+        char title[256];
+        std::snprintf(title, sizeof title, "%s: %s (%s), V = %.3f m/s, L = %.3g, W = %.0f kg: %s", scene.name.c_str(),
+                      v.name.c_str(), v.role == "check" ? "check" : lg::certKindName(v.cert.kind), v.cert.sinkSpeed,
+                      v.cert.liftRatio, v.cert.mass, v.pass ? "PASS" : "FAIL");
+        f.title = title;
+        f.run = &runs[i];
+        f.limits = lg::compliancePlotLimits(scene, *spec, v);
+        const std::string stem = lg::safeFileStem(v.name);
+        std::string why;
+        if (lg::drawCaseFigure(f, pd.string(), stem, gp, &why)) {
+          if (gp) pictures += "![" + v.name + "](plots/" + stem + ".png)\n\n";
+        } else if (gp) {
+          pictures += "Picture of " + v.name + " missing: " + why + "\n\n";
+        }
+      }
+    } else {
+      pictures = "Not drawn: run `certify` with `--plots`.\n";
+    }
+    lg::writeFileAtomic((fs::path(outDir) / "compliance.json").string(), lg::complianceJson(c));
+    lg::writeFileAtomic((fs::path(outDir) / "compliance.md").string(), lg::complianceMarkdown(c, pictures));
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+  if (!quiet) {
+    std::cout << lg::complianceSummary(c);
+    std::cout << "wrote " << outDir << "/compliance.json and compliance.md" << (plots ? " with plots" : "") << "\n";
+  }
+  return c.pass ? 0 : 1;
+}

@@ -1,0 +1,289 @@
+// Certification matrix: generation of the cases, their limits and verdicts (certification.hpp).
+#include "sim/certification.hpp"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "sim/io/toml_reader.hpp"
+
+namespace lg {
+namespace {
+
+constexpr double kFtToM = 0.3048;          // [m/ft]
+constexpr double kKgM2ToLbFt2 = 0.204816;  // [lb/ft^2 per kg/m^2] (certification.md)
+
+std::string num(double v, int digits = 4) {
+  std::ostringstream o;
+  o.precision(digits);
+  o << v;
+  return o.str();
+}
+
+CertCase makeCase(const std::string& name, CertKind kind, double V, double L, double W, double duration,
+                  const std::string& rule) {
+  CertCase c;
+  c.name = name;
+  c.kind = kind;
+  c.sinkSpeed = V;
+  c.liftRatio = L;
+  c.mass = W;
+  c.duration = duration;
+  c.rule = rule;
+  return c;
+}
+
+}  // namespace
+
+bool certBasisFromName(const std::string& name, CertBasis& basis) {
+  static const std::pair<const char*, CertBasis> table[] = {{"part25", CertBasis::Part25}, {"cs25", CertBasis::CS25},
+                                                            {"part23", CertBasis::Part23}, {"cs23", CertBasis::CS23},
+                                                            {"custom", CertBasis::Custom}};
+  for (const auto& [n, b] : table)
+    if (name == n) {
+      basis = b;
+      return true;
+    }
+  return false;
+}
+std::string certBasisNames() { return "\"part25\", \"cs25\", \"part23\", \"cs23\", \"custom\""; }
+
+const char* certKindName(CertKind k) { return k == CertKind::Limit ? "limit" : "reserve"; }
+
+const CertCase* Certification::findCase(const std::string& name) const {
+  for (const auto& c : cases)
+    if (c.name == name) return &c;
+  return nullptr;
+}
+
+double part23SinkSpeed(double wingLoading) {
+  const double ws = wingLoading * kKgM2ToLbFt2;  // [lb/ft^2]
+  const double V = std::clamp(4.4 * std::pow(ws, 0.25), 7.0, 10.0);  // [ft/s]
+  return V * kFtToM;
+}
+
+Certification parseCertification(const toml::table& t, const std::string& file, const Scene& scene,
+                                 const std::string& basisOverride) {
+  TomlReader r(t, file, "certification");
+  r.allowOnly({"basis", "landing_mass", "takeoff_mass", "wing_loading", "lift_ratio", "reserve_lift_ratio",
+               "limit_load_factor", "stroke_margin", "tyre_limit", "mass_body", "duration", "case"});
+  Certification c;
+  c.file = file;
+  c.line = r.line();
+  c.basisName = basisOverride.empty() ? r.string("basis") : basisOverride;
+  if (!certBasisFromName(c.basisName, c.basis)) {
+    if (!basisOverride.empty())
+      throw InputError("command line", 0, "--basis", "value '" + basisOverride + "' must be one of " + certBasisNames());
+    r.fail("basis", "value '" + c.basisName + "' must be one of " + certBasisNames());
+  }
+  // The body that makes W up, and the mass of the rest of the gear.
+  c.massBody = r.string("mass_body", scene.roles.airframe);
+  if (c.massBody.empty()) r.fail("mass_body", "missing: the scene names no airframe, so give the body whose mass makes up W");
+  const int mb = scene.model.bodyIndex(c.massBody);
+  if (mb < 0) r.fail("mass_body", "'" + c.massBody + "' is not a body of the scene");
+  double rest = 0;  // [kg]
+  for (int b = 0; b < scene.model.nBodies(); ++b)
+    if (b != mb) rest += scene.model.bodies[b].mass;
+  auto mass = [&](const std::string& key, double def) {
+    const double W = r.has(key) ? r.positive(key) : def;
+    if (!(W > rest))
+      r.fail(key, "value " + fmt(W) + " kg must exceed the mass of the gear's other bodies, " + fmt(rest) +
+                      " kg (W is the whole mass on the unit; '" + c.massBody + "' takes W - " + fmt(rest) + " kg)");
+    return W;
+  };
+  const bool p23 = c.part23();
+  const bool custom = c.basis == CertBasis::Custom;
+  c.landingMass = custom && !r.has("landing_mass") ? 0.0 : mass("landing_mass", 0.0);
+  c.takeoffMass = (c.basis == CertBasis::Part25 || c.basis == CertBasis::CS25) ? mass("takeoff_mass", c.landingMass)
+                                                                               : r.number("takeoff_mass", c.landingMass);
+  if (c.takeoffMass < c.landingMass && (c.basis == CertBasis::Part25 || c.basis == CertBasis::CS25))
+    r.fail("takeoff_mass", "value " + fmt(c.takeoffMass) + " kg must not be below landing_mass " + fmt(c.landingMass) + " kg");
+  const double maxL = p23 ? 2.0 / 3.0 : 1.0;
+  c.liftRatio = r.nonNegative("lift_ratio", maxL);
+  if (c.liftRatio > maxL + 1e-12)
+    r.fail("lift_ratio", "value " + fmt(c.liftRatio) + " must be <= " + (p23 ? "2/3 (Part 23 limit drop)" : "1"));
+  c.reserveLiftRatio = r.nonNegative("reserve_lift_ratio", 1.0);
+  if (c.reserveLiftRatio > 1) r.fail("reserve_lift_ratio", "value " + fmt(c.reserveLiftRatio) + " must be <= 1");
+  if ((c.liftRatio > 0 || c.reserveLiftRatio > 0) && scene.roles.lifts.empty())
+    r.fail(r.has("lift_ratio") ? "lift_ratio" : "basis",
+           "the matrix applies lift (L = " + fmt(std::max(c.liftRatio, c.reserveLiftRatio)) +
+               ") but the scene declares no lift element: add a [[force]] of type \"lift\" on the airframe");
+  c.limitLoadFactor = r.positive("limit_load_factor");
+  if (p23 && !(c.limitLoadFactor > c.liftRatio))
+    r.fail("limit_load_factor", "value " + fmt(c.limitLoadFactor) + " must exceed the lift ratio " + fmt(c.liftRatio) +
+                                    " (Part 23: n = n_g + L)");
+  c.strokeMargin = r.nonNegative("stroke_margin", 0.0);
+  for (size_t k = 0; k < scene.roles.struts.size(); ++k) {
+    const double S = scene.roles.strokeLimits[k];
+    if (std::isfinite(S) && !(c.strokeMargin < S))
+      r.fail("stroke_margin", "value " + fmt(c.strokeMargin) + " m must be smaller than the stroke S_max = " + fmt(S) +
+                                  " m of strut '" + scene.model.forces[scene.roles.struts[k]].name + "'");
+  }
+  c.tyreLimit = r.has("tyre_limit") ? r.positive("tyre_limit") : 0.0;
+  if (scene.roles.tyres.empty() && r.has("tyre_limit")) r.fail("tyre_limit", "the scene has no tyre");
+  c.duration = r.positive("duration", 0.8);
+
+  if (custom) {
+    if (r.has("wing_loading")) r.fail("wing_loading", "is used by the part23 and cs23 bases only");
+    const auto rows = tablesOf(t, "case", file);
+    if (rows.empty()) r.fail("case", "basis \"custom\" needs its cases: [[certification.case]] with name, kind, sink_speed, lift_ratio, mass");
+    std::set<std::string> names;
+    for (size_t i = 0; i < rows.size(); ++i) {
+      TomlReader cr(*rows[i], file, "certification.case[" + std::to_string(i) + "]");
+      cr.allowOnly({"name", "kind", "sink_speed", "lift_ratio", "mass", "duration"});
+      CertCase cc;
+      cc.name = cr.string("name");
+      if (cc.name.empty() || !names.insert(cc.name).second) cr.fail("name", "'" + cc.name + "' is empty or used twice");
+      for (const auto& sc : scene.cases)
+        if (sc.name == cc.name) cr.fail("name", "'" + cc.name + "' is already a case of the scene: give the matrix case its own name");
+      const std::string kind = cr.string("kind");
+      if (kind == "limit") cc.kind = CertKind::Limit;
+      else if (kind == "reserve") cc.kind = CertKind::Reserve;
+      else cr.fail("kind", "value '" + kind + "' must be \"limit\" or \"reserve\"");
+      cc.sinkSpeed = cr.positive("sink_speed");
+      cc.liftRatio = cr.nonNegative("lift_ratio", 0.0);
+      if (cc.liftRatio > 1) cr.fail("lift_ratio", "value " + fmt(cc.liftRatio) + " must be <= 1");
+      if (cc.liftRatio > 0 && scene.roles.lifts.empty()) cr.fail("lift_ratio", "the scene declares no lift element");
+      cc.mass = cr.positive("mass");
+      if (!(cc.mass > rest)) cr.fail("mass", "value " + fmt(cc.mass) + " kg must exceed the gear's other bodies, " + fmt(rest) + " kg");
+      cc.duration = cr.positive("duration", c.duration);
+      cc.rule = "custom case";
+      c.cases.push_back(cc);
+    }
+    return c;
+  }
+  if (r.has("case")) r.fail("case", "matrix cases are generated from the basis; [[certification.case]] needs basis = \"custom\"");
+  if (p23) {
+    if (!r.has("wing_loading"))
+      r.fail("wing_loading", "basis '" + c.basisName + "' needs the wing loading W/S [kg/m^2] for its sink speed");
+    c.wingLoading = r.positive("wing_loading");
+    const double V = part23SinkSpeed(c.wingLoading);
+    const std::string ws = num(c.wingLoading * kKgM2ToLbFt2, 4) + " lb/ft^2";
+    c.cases.push_back(makeCase("cert-limit", CertKind::Limit, V, c.liftRatio, c.landingMass, c.duration,
+                               "limit drop: V = 4.4 (W/S)^(1/4) ft/s clamped to 7..10 ft/s, W/S = " + ws + " -> " +
+                                   num(V / kFtToM, 4) + " ft/s; design landing weight"));
+    c.cases.push_back(makeCase("cert-reserve", CertKind::Reserve, 1.2 * V, c.reserveLiftRatio, c.landingMass, c.duration,
+                               "reserve energy: 1.2 x the limit sink speed (drop height 1.44 h)"));
+  } else {
+    if (r.has("wing_loading")) r.fail("wing_loading", "is used by the part23 and cs23 bases only");
+    const bool cs = c.basis == CertBasis::CS25;
+    c.cases.push_back(makeCase("cert-limit-landing", CertKind::Limit, 3.05, c.liftRatio, c.landingMass, c.duration,
+                               "limit drop at the design landing weight, 3.05 m/s (10 ft/s)"));
+    c.cases.push_back(makeCase("cert-limit-takeoff", CertKind::Limit, 1.83, c.liftRatio, c.takeoffMass, c.duration,
+                               "limit drop at the design takeoff weight, 1.83 m/s (6 ft/s)"));
+    c.cases.push_back(makeCase("cert-reserve", CertKind::Reserve, cs ? 3.7 : 3.66, c.reserveLiftRatio, c.landingMass,
+                               c.duration,
+                               cs ? "reserve energy at the design landing weight, 3.7 m/s (CS-25)"
+                                  : "reserve energy at the design landing weight, 3.66 m/s (12 ft/s)"));
+  }
+  return c;
+}
+
+DropCase certDropCase(const Scene& scene, const Certification& c, const CertCase& cc) {
+  DropCase d;
+  d.name = cc.name;
+  d.sinkSpeed = cc.sinkSpeed;
+  d.liftRatio = cc.liftRatio;
+  d.duration = cc.duration;
+  double rest = 0;
+  for (const auto& b : scene.model.bodies)
+    if (b.name != c.massBody) rest += b.mass;
+  d.masses[c.massBody] = cc.mass - rest;
+  return d;
+}
+
+std::vector<Limit> checkLimits(const Certification* c, const Scene& scene) {
+  std::vector<Limit> out;
+  bool anyStop = false;
+  for (double S : scene.roles.strokeLimits) anyStop = anyStop || std::isfinite(S);
+  const double margin = c ? c->strokeMargin : 0.0;
+  if (anyStop)
+    out.push_back({"stroke_margin", false, margin,
+                   margin > 0 ? "stroke margin to the bottoming stop >= " + num(margin) + " m" : "no bottoming"});
+  if (!scene.roles.tyres.empty()) {
+    if (c && c->tyreLimit > 0) out.push_back({"tyre_deflection", true, c->tyreLimit, "tyre deflection limit"});
+    else out.push_back({"tyre_margin", false, 0.0, "tyre deflection within delta_max"});
+  }
+  return out;
+}
+
+std::vector<Limit> caseLimits(const Certification& c, const CertCase& cc, const Scene& scene) {
+  std::vector<Limit> out;
+  const double ngLim = c.limitGroundFactor();
+  if (cc.kind == CertKind::Limit) {
+    if (c.part23()) out.push_back({"inertia_load_factor", true, c.limitLoadFactor, "design limit load factor n (n_g + L)"});
+    else out.push_back({"load_factor", true, ngLim, "design limit load factor n_g"});
+  } else {
+    out.push_back({"load_factor", true, c.ultimateFactor * ngLim,
+                   "ultimate ground load factor (" + num(c.ultimateFactor) + " x n_g,lim = " + num(ngLim) + ")"});
+  }
+  for (const Limit& l : checkLimits(&c, scene)) out.push_back(l);
+  return out;
+}
+
+CaseVerdict assessCase(const std::string& role, const CertCase& cc, const CaseMetrics& m, const std::vector<Limit>& limits) {
+  CaseVerdict v;
+  v.name = m.name;
+  v.role = role;
+  v.cert = cc;
+  v.metrics = m;
+  if (!m.ok) v.reasons.push_back("simulation failed: " + m.message);
+  for (const Limit& l : limits) {
+    LimitResult lr;
+    lr.limit = l;
+    lr.value = metricValue(m, l.metric);
+    lr.pass = m.ok && (l.upper ? lr.value <= l.bound : lr.value >= l.bound);
+    if (m.ok && !lr.pass) {
+      const MetricInfo* info = findMetric(l.metric);
+      v.reasons.push_back(l.metric + " " + num(lr.value, 5) + (l.upper ? " > " : " < ") + num(l.bound, 5) + " " +
+                          (info ? info->unit : "") + " (" + l.rule + ")");
+    }
+    v.limits.push_back(lr);
+  }
+  if (m.ok && m.bottomed) v.reasons.push_back("bottomed: the strut reached its bottoming stop");
+  if (m.ok && !m.compression_ended)
+    v.reasons.push_back("the compression did not end within " + num(cc.duration) + " s: the energy was not absorbed in the run");
+  v.pass = v.reasons.empty();
+  return v;
+}
+
+std::vector<UnitItem> unitItems(const Certification& c) {
+  std::vector<UnitItem> out;
+  if (c.part23()) {
+    out.push_back({"design inertia load factor n", c.limitLoadFactor, 2.67, c.limitLoadFactor >= 2.67,
+                   "Part 23 (23.473): n >= 2.67 at the design maximum weight"});
+    out.push_back({"design ground load factor n_g = n - L", c.limitGroundFactor(), 2.0, c.limitGroundFactor() >= 2.0,
+                   "Part 23 (23.473): n_g >= 2.0 at the design maximum weight"});
+  }
+  return out;
+}
+
+Compliance assessCompliance(const Scene& scene, const Certification& c, int threads, const CaseOptions& opt,
+                            std::vector<CaseResult>* runs) {
+  Compliance out;
+  out.scene = scene.file;
+  out.spec = &c;
+  out.unit = unitItems(c);
+  std::vector<DropCase> cases;
+  for (const auto& cc : c.cases) cases.push_back(certDropCase(scene, c, cc));
+  for (const auto& sc : scene.cases) cases.push_back(sc);
+  std::vector<CaseResult> res = runCases(scene, cases, threads, opt);
+  for (size_t i = 0; i < c.cases.size(); ++i)
+    out.cases.push_back(assessCase("certification", c.cases[i], res[i].metrics, caseLimits(c, c.cases[i], scene)));
+  const std::vector<Limit> checks = checkLimits(&c, scene);
+  for (size_t i = 0; i < scene.cases.size(); ++i) {
+    const DropCase& d = scene.cases[i];
+    CertCase cc = makeCase(d.name, CertKind::Limit, d.sinkSpeed, d.liftRatio, caseMass(scene, d), d.duration,
+                           "the scene's own case (a check)");
+    out.checks.push_back(assessCase("check", cc, res[c.cases.size() + i].metrics, checks));
+  }
+  out.pass = true;
+  for (const auto& u : out.unit) out.pass = out.pass && u.pass;
+  for (const auto& v : out.cases) out.pass = out.pass && v.pass;
+  out.checksPass = true;
+  for (const auto& v : out.checks) out.checksPass = out.checksPass && v.pass;
+  if (runs) *runs = std::move(res);
+  return out;
+}
+
+}  // namespace lg

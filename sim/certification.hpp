@@ -1,0 +1,149 @@
+// The certification drop-test matrix (shared/spec/certification.md restated in README "Certification"):
+// a [certification] table names the rules' basis and the unit's masses and limits; from it come the
+// limit, takeoff-weight and reserve-energy cases with the rules' sink speeds and lift ratios, and the
+// limits each case must meet. `certify` runs them; design studies use them as constraint cases.
+//
+//   [certification]
+//   basis = "part25"            # part25 | cs25 | part23 | cs23 | custom
+//   landing_mass = 4050.0       # [kg] mass on the unit at the design landing weight
+//   takeoff_mass = 4300.0       # [kg] at the design takeoff weight (Part 25 / CS-25 takeoff case)
+//   wing_loading = 120.0        # [kg/m^2] W/S of the aircraft (Part 23 / CS-23 sink speed)
+//   lift_ratio = 1.0            # L of the limit cases (default 1; Part 23 at most and default 2/3)
+//   reserve_lift_ratio = 1.0    # L of the reserve-energy case (default 1)
+//   limit_load_factor = 2.5     # design limit load factor: n_g (Part 25), n = n_g + L (Part 23)
+//   stroke_margin = 0.01        # [m] stroke to keep clear of every bottoming stop, in every case
+//   tyre_limit = 0.10           # [m] largest tyre deflection (default: each tyre's delta_max)
+//   mass_body = "airframe"      # the body whose mass makes up W (default: the scene's airframe)
+//   duration = 0.8              # [s] of each case
+//   [[certification.case]]      # basis = "custom" only: name, kind = "limit" | "reserve",
+//                               # sink_speed [m/s], lift_ratio, mass [kg]
+//
+// Part 25 / CS-25: limit at landing weight 3.05 m/s, limit at takeoff weight 1.83 m/s, reserve energy
+// 3.66 m/s (CS-25: 3.7). Part 23 / CS-23: limit V = 4.4 (W/S)^(1/4) ft/s (W/S in lb/ft^2) clamped to
+// 7 .. 10 ft/s, reserve 1.2 V at L = 1. Limits per case: the load factor within the design limit (the
+// reserve case within ultimate = 1.5 x limit), the stroke margin to every bottoming stop, the tyre
+// deflection, and a compression that ends within the simulated time. Part 23's floors n >= 2.67 and
+// n_g >= 2.0 are reported for the unit.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "sim/drop_test.hpp"
+#include "sim/metrics.hpp"
+
+namespace lg {
+
+enum class CertBasis { Part25, CS25, Part23, CS23, Custom };
+bool certBasisFromName(const std::string& name, CertBasis& basis);
+std::string certBasisNames();  // for messages
+
+enum class CertKind { Limit, Reserve };
+const char* certKindName(CertKind k);
+
+// One case of the matrix.
+struct CertCase {
+  std::string name;       // "cert-limit-landing", ...
+  CertKind kind = CertKind::Limit;
+  double sinkSpeed = 0;   // [m/s]
+  double liftRatio = 0;   // [-]
+  double mass = 0;        // [kg] W, the mass on the unit
+  double duration = 0.8;  // [s]
+  std::string rule;       // where its numbers come from, for people
+};
+
+struct Certification {
+  std::string file;        // where the table was read (messages)
+  int line = 0;
+  CertBasis basis = CertBasis::Part25;
+  std::string basisName = "part25";
+  double landingMass = 0;        // [kg]
+  double takeoffMass = 0;        // [kg] (Part 25 / CS-25)
+  double wingLoading = 0;        // [kg/m^2] (Part 23 / CS-23)
+  double liftRatio = 1;          // [-] limit cases
+  double reserveLiftRatio = 1;   // [-]
+  double limitLoadFactor = 0;    // [-] n_g (Part 25) or n (Part 23)
+  double ultimateFactor = 1.5;   // [-] ultimate / limit
+  double strokeMargin = 0;       // [m]
+  double tyreLimit = 0;          // [m]; 0: each tyre's delta_max
+  std::string massBody;          // body whose mass makes W up
+  double duration = 0.8;         // [s]
+  std::vector<CertCase> cases;   // the matrix, generated (or custom)
+
+  bool part23() const { return basis == CertBasis::Part23 || basis == CertBasis::CS23; }
+  // Design limit ground-reaction factor n_g,lim: the declared factor (Part 25, custom) or n_lim - L (Part 23).
+  double limitGroundFactor() const { return part23() ? limitLoadFactor - liftRatio : limitLoadFactor; }
+  const CertCase* findCase(const std::string& name) const;
+};
+
+// Part 23 / CS-23 limit sink speed [m/s] for a wing loading W/S [kg/m^2]: 4.4 (W/S)^(1/4) ft/s with W/S
+// in lb/ft^2 (1 kg/m^2 = 0.204816 lb/ft^2), clamped to 7 .. 10 ft/s.
+double part23SinkSpeed(double wingLoading);
+
+// Parses and validates a [certification] table for 'scene' (its bodies, struts and tyres must be built);
+// 'basis' (if not empty) replaces the table's basis. Throws InputError naming file, line and key.
+Certification parseCertification(const toml::table& t, const std::string& file, const Scene& scene,
+                                 const std::string& basis = "");
+
+// The drop case of a matrix case on a scene: the mass body's mass set so that the scene's total is W.
+DropCase certDropCase(const Scene& scene, const Certification& c, const CertCase& cc);
+
+// A limit a case must meet: metric <= bound (upper) or metric >= bound.
+struct Limit {
+  std::string metric;  // a name of metricCatalogue()
+  bool upper = true;
+  double bound = 0;    // [metric's unit]
+  std::string rule;    // "limit load factor", "stroke margin", ...
+};
+// The limits of a matrix case, and those the scene's own cases are checked against (stroke margin and
+// tyre, without loads: their conditions are not the rules').
+std::vector<Limit> caseLimits(const Certification& c, const CertCase& cc, const Scene& scene);
+std::vector<Limit> checkLimits(const Certification* c, const Scene& scene);
+
+struct LimitResult {
+  Limit limit;
+  double value = 0;
+  bool pass = false;
+};
+
+// One case's verdict: the limits, the simulation's own status, and the compression within the run.
+struct CaseVerdict {
+  std::string name;
+  std::string role;          // "certification" or "check"
+  CertCase cert;             // for matrix cases (kind, rule); for checks the case's V, L, W
+  CaseMetrics metrics;
+  std::vector<LimitResult> limits;
+  bool pass = false;
+  std::vector<std::string> reasons;  // why it fails, for people
+};
+CaseVerdict assessCase(const std::string& role, const CertCase& cc, const CaseMetrics& m, const std::vector<Limit>& limits);
+
+// A requirement on the unit's design (Part 23's load-factor floors).
+struct UnitItem {
+  std::string name;
+  double value = 0, bound = 0;
+  bool pass = false;
+  std::string rule;
+};
+
+struct Compliance {
+  std::string scene;
+  const Certification* spec = nullptr;
+  std::vector<UnitItem> unit;
+  std::vector<CaseVerdict> cases;   // the matrix
+  std::vector<CaseVerdict> checks;  // the scene's own cases
+  bool pass = false;                // every matrix case and unit item passes
+  bool checksPass = false;          // every check case stays within its limits (reported, not the verdict)
+};
+
+// The unit items of a certification.
+std::vector<UnitItem> unitItems(const Certification& c);
+
+// Runs the matrix and the scene's own cases (as checks) and judges them. 'runs' (optional) receives
+// the case results in the order matrix cases, then checks.
+Compliance assessCompliance(const Scene& scene, const Certification& c, int threads, const CaseOptions& opt = {},
+                            std::vector<CaseResult>* runs = nullptr);
+
+}  // namespace lg

@@ -1,0 +1,22 @@
+// The outputs of `certify`: compliance.json (the verdict for programs) and compliance.md (a table a
+// reviewer reads in a minute), with one picture per case (sim/io/plots.hpp) and the limits drawn.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "sim/certification.hpp"
+#include "sim/io/plots.hpp"
+
+namespace lg {
+
+std::string complianceJson(const Compliance& c);
+// 'pictures': markdown lines with the case pictures (or a sentence why there are none).
+std::string complianceMarkdown(const Compliance& c, const std::string& pictures);
+// A one-line verdict per case and the whole unit, for the terminal.
+std::string complianceSummary(const Compliance& c);
+
+// The limits of a case drawn in its picture: limit and ultimate load for its W, stroke and tyre limits.
+PlotLimits compliancePlotLimits(const Scene& scene, const Certification& spec, const CaseVerdict& v);
+
+}  // namespace lg

@@ -1,0 +1,205 @@
+// Drop-test pictures through gnuplot (plots.hpp).
+#include "sim/io/plots.hpp"
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+#include <vector>
+
+#include "sim/io/files.hpp"
+
+namespace lg {
+namespace {
+
+std::string num(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.10g", v);
+  return b;
+}
+std::string label(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.4g", v);
+  return b;
+}
+
+// A gnuplot single-quoted string: quotes doubled.
+std::string quoted(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += (c == '\'') ? std::string("''") : std::string(1, c);
+  return q + "'";
+}
+
+// The phases of a drop for the work diagrams: 0 the compression (up to the maximum), 1 the return
+// stroke (until the tyres leave the ground or the strut is extended, or a second compression begins),
+// 2 after it.
+std::vector<int> phases(const CaseResult& r, double Sample::*x, double Sample::*back) {
+  const auto& S = r.samples;
+  size_t iMax = 0;
+  for (size_t i = 0; i < S.size(); ++i)
+    if (S[i].*x > S[iMax].*x) iMax = i;
+  std::vector<int> p(S.size(), 2);
+  for (size_t i = 0; i <= iMax && i < S.size(); ++i) p[i] = 0;
+  for (size_t i = iMax + 1; i < S.size(); ++i) {  // up to lift-off, or the turn into a second compression
+    p[i] = 1;
+    if (!(S[i].*back > 0) || (i + 1 < S.size() && S[i + 1].*x > S[i].*x)) break;
+  }
+  return p;
+}
+
+// Columns: t h P_y s P_a delta gear-phase strut-phase (phases above: the gear's by h and P_y, the
+// strut's by s).
+std::string samplesData(const CaseResult& r) {
+  const std::vector<int> gear = phases(r, &Sample::h, &Sample::P_y), strut = phases(r, &Sample::s, &Sample::s);
+  std::ostringstream d;
+  d << "# t[s] h[m] P_y[N] s[m] P_a[N] delta[m] gear_phase strut_phase (0 compression, 1 return, 2 after the return)\n";
+  for (size_t i = 0; i < r.samples.size(); ++i) {
+    const Sample& s = r.samples[i];
+    const std::string values = num(s.t) + " " + num(s.h) + " " + num(s.P_y) + " " + num(s.s) + " " + num(s.P_a) + " " +
+                               num(s.delta);
+    d << values << " " << gear[i] << " " << strut[i] << "\n";
+    // the return starts where the compression ends
+    if (i + 1 < r.samples.size() && (gear[i] == 0) != (gear[i + 1] == 0)) d << values << " 1 " << (strut[i] == 0 ? 0 : strut[i]) << "\n";
+    if (i + 1 < r.samples.size() && (strut[i] == 0) != (strut[i + 1] == 0)) d << values << " " << (gear[i] == 0 ? 0 : gear[i]) << " 1\n";
+  }
+  return d.str();
+}
+
+// The range of a channel over the compression and the return stroke.
+void workRange(const CaseResult& r, double Sample::*x, double Sample::*back, double& lo, double& hi) {
+  const std::vector<int> p = phases(r, x, back);
+  lo = 0;
+  hi = 0;
+  for (size_t i = 0; i < r.samples.size(); ++i)
+    if (p[i] < 2) {
+      lo = std::min(lo, r.samples[i].*x);
+      hi = std::max(hi, r.samples[i].*x);
+    }
+}
+
+// A POSIX shell single-quoted word.
+std::string shellQuoted(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// A horizontal limit as a constant function: part of the legend and of the y autoscale.
+std::string hline(double y, const char* colour, const std::string& name) {
+  if (!std::isfinite(y)) return "";
+  return ", " + num(y) + " with lines dt 2 lw 2 lc rgb '" + colour + "' title " + quoted(name + " " + label(y));
+}
+}  // namespace
+
+std::string safeFileStem(const std::string& name) {
+  std::string s;
+  for (unsigned char c : name) s += (std::isalnum(c) || c == '-' || c == '_' || c == '.') ? static_cast<char>(c) : '_';
+  while (!s.empty() && s[0] == '.') s[0] = '_';
+  return s.empty() ? "case" : s;
+}
+
+bool haveGnuplot() { return std::system("command -v gnuplot >/dev/null 2>&1") == 0; }
+
+PlotLimits sceneLimits(const Scene& scene) {
+  PlotLimits l;
+  if (!scene.roles.strokeLimits.empty()) l.strokeLimit = scene.roles.strokeLimits[0];
+  if (!scene.roles.tyres.empty())
+    l.tyreLimit = std::get<Tyre<double>>(scene.model.forces[scene.roles.tyres[0]].type).deltaMax;
+  return l;
+}
+
+bool drawCaseFigure(const CaseFigure& f, const std::string& dir, const std::string& stem, bool run, std::string* why) {
+  namespace fs = std::filesystem;
+  const fs::path d(dir);
+  writeFileAtomic((d / (stem + ".dat")).string(), samplesData(*f.run));
+  const bool base = f.baseline != nullptr;
+  if (base) writeFileAtomic((d / (stem + "_baseline.dat")).string(), samplesData(*f.baseline));
+  const std::string dat = quoted(stem + ".dat"), bdat = quoted(stem + "_baseline.dat");
+  const PlotLimits& L = f.limits;
+  std::ostringstream gp;
+  gp << "set terminal pngcairo size 1400,1300 noenhanced font ',10'\n";
+  gp << "set output " << quoted(stem + ".png") << "\n";
+  gp << "set multiplot layout 3,2 title " << quoted(f.title) << "\nset grid\nset key top right\n";
+  auto series = [&](const std::string& x, const std::string& y, int phaseColumn) {
+    const bool split = phaseColumn > 0;
+    const std::string ph = "$" + std::to_string(phaseColumn);
+    std::ostringstream p;
+    p << "plot ";
+    if (split) {
+      if (base)
+        p << bdat << " using " << x << ":(" << ph << "<2?" << y.substr(1, y.size() - 2) << ":1/0) with lines lw 1.5 lc rgb '#9a9a9a' title "
+          << quoted(f.baselineLabel) << ", ";
+      p << dat << " using " << x << ":(" << ph << "==0?" << y.substr(1, y.size() - 2) << ":1/0) with lines lw 2 lc rgb '#1f77b4' title "
+        << quoted(f.runLabel) << ", ";
+      p << dat << " using " << x << ":(" << ph << "==1?" << y.substr(1, y.size() - 2) << ":1/0) with lines lw 2 lc rgb '#ff7f0e' title 'return'";
+    } else {
+      if (base) p << bdat << " using " << x << ":" << y << " with lines lw 1.5 lc rgb '#9a9a9a' title " << quoted(f.baselineLabel) << ", ";
+      p << dat << " using " << x << ":" << y << " with lines lw 2 lc rgb '#1f77b4' " << (base ? "title " + quoted(f.runLabel) : "notitle");
+    }
+    return p.str();
+  };
+  const auto& M = f.run->metrics;
+  const double kN = 1e-3;
+  // P_y(t)
+  gp << "set title 'vertical ground load P_y(t)'\nset xlabel 't [s]'\nset ylabel 'P_y [kN]'\n";
+  gp << series("1", "($3/1000)", 0) << ", '+' using (" << num(M.t_peak_s) << "):(" << num(M.peak_load_N * kN)
+     << ") every ::0::0 with points pt 7 ps 1.5 lc rgb '#d62728' title 'peak " << num(std::round(M.peak_load_N)) << " N'"
+     << hline(L.loadLimit * kN, "#d62728", "limit load [kN]") << hline(L.loadUltimate * kN, "#8c564b", "ultimate load [kN]")
+     << "\n";
+  // P_y(h)
+  gp << "set title 'work diagram P_y(h), compression and return stroke'\nset xlabel 'h [m]'\nset ylabel 'P_y [kN]'\n";
+  double lo = 0, hi = 0;
+  workRange(*f.run, &Sample::h, &Sample::P_y, lo, hi);
+  if (base) {
+    double blo = 0, bhi = 0;
+    workRange(*f.baseline, &Sample::h, &Sample::P_y, blo, bhi);
+    lo = std::min(lo, blo);
+    hi = std::max(hi, bhi);
+  }
+  gp << "set xrange [" << num(lo - 0.03 * (hi - lo)) << ":" << num(hi + 0.03 * (hi - lo)) << "]\n";
+  gp << series("2", "($3/1000)", 7) << hline(L.loadLimit * kN, "#d62728", "limit load [kN]")
+     << hline(L.loadUltimate * kN, "#8c564b", "ultimate load [kN]") << "\nset autoscale x\n";
+  // s(t)
+  gp << "set title 'stroke s(t)'\nset xlabel 't [s]'\nset ylabel 's [m]'\n";
+  gp << series("1", "($4)", 0) << hline(L.strokeLimit, "#d62728", "S_max (bottoming) [m]")
+     << (L.strokeMargin != L.strokeLimit ? hline(L.strokeMargin, "#ff7f0e", "S_max - margin [m]") : "") << "\n";
+  // P_a(s)
+  gp << "set title 'strut work diagram P_a(s), compression and return stroke'\nset xlabel 's [m]'\nset ylabel 'P_a [kN]'\n";
+  workRange(*f.run, &Sample::s, &Sample::s, lo, hi);
+  if (std::isfinite(L.strokeLimit)) hi = std::max(hi, L.strokeLimit);
+  gp << "set xrange [" << num(lo - 0.03 * (hi - lo)) << ":" << num(hi + 0.03 * (hi - lo)) << "]\n";
+  if (std::isfinite(L.strokeLimit)) {
+    gp << "set arrow from first " << num(L.strokeLimit) << ", graph 0 to first " << num(L.strokeLimit)
+       << ", graph 1 nohead dt 2 lw 2 lc rgb '#d62728'\n";
+    if (std::isfinite(L.strokeMargin) && L.strokeMargin != L.strokeLimit)
+      gp << "set arrow from first " << num(L.strokeMargin) << ", graph 0 to first " << num(L.strokeMargin)
+         << ", graph 1 nohead dt 2 lw 2 lc rgb '#ff7f0e'\n";
+  }
+  gp << series("4", "($5/1000)", 8) << "\nunset arrow\nset autoscale x\n";
+  // h(t)
+  gp << "set title 'airframe travel h(t)'\nset xlabel 't [s]'\nset ylabel 'h [m]'\n";
+  gp << series("1", "($2)", 0) << "\n";
+  // delta(t)
+  gp << "set title 'tyre deflection delta(t) (0 when airborne)'\nset xlabel 't [s]'\nset ylabel 'delta [m]'\n";
+  gp << series("1", "($6>0?$6:0)", 0) << hline(L.tyreLimit, "#d62728", "tyre limit [m]") << "\n";
+  gp << "unset multiplot\n";
+  writeFileAtomic((d / (stem + ".gp")).string(), gp.str());
+  if (!run) return true;
+  if (!haveGnuplot()) {
+    if (why) *why = "gnuplot is not installed (scripts/setup.sh installs gnuplot-nox)";
+    return false;
+  }
+  const std::string cmd = "cd " + shellQuoted(d.string()) + " && gnuplot " + shellQuoted(stem + ".gp") + " > /dev/null 2> " +
+                          shellQuoted(stem + ".gnuplot.log");
+  if (std::system(cmd.c_str()) != 0) {
+    if (why) *why = "gnuplot failed on " + (d / (stem + ".gp")).string() + " (see " + stem + ".gnuplot.log)";
+    return false;
+  }
+  std::error_code ec;
+  fs::remove(d / (stem + ".gnuplot.log"), ec);
+  return true;
+}
+
+}  // namespace lg
