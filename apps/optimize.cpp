@@ -90,6 +90,12 @@ int main(int argc, char** argv) {
     std::printf("  objective %s: baseline %.6g -> best %.6g (%s, evaluation %d)\n",
                 maximize ? "(max efficiency)" : "(min peak load, N)", o.initial.objective, o.best.objective,
                 o.feasible ? "feasible" : "NOT feasible", o.bestIndex);
+    if (study.certification)
+      std::printf("  certification matrix (%s, %s): %s\n", study.certification->basisName.c_str(),
+                  study.certificationRole == lg::optim::CaseRole::Check ? "checked" : "constraining the design",
+                  res.certified ? "PASS" : "FAIL");
+    std::printf("  check cases: %s\n", res.checksWithinLimits ? "within their limits"
+                                                               : "some exceed a limit (warnings above, report.md)");
     for (size_t i = 0; i < study.variables.size(); ++i)
       std::printf("  %-16s %.6g -> %.6g\n", study.variables[i].path.c_str(), o.x0[i], o.x[i]);
     std::printf("  wrote %s/{history.csv,result.json,best.toml,report.md}\n", outDir.c_str());

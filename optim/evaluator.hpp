@@ -1,6 +1,7 @@
 // Evaluating one design of a study on the simulator: edit the scene document, rebuild the scene,
-// run the cases (OpenMP through lg::runCases), reduce the per-case metrics to the objective and the
-// constraints in a fixed order (so results are bitwise identical for any thread count).
+// run the steering cases (OpenMP through lg::runCases; cases that differ only by name run once),
+// reduce the per-case metrics to the objective and the constraints in a fixed order (so results are
+// bitwise identical for any thread count).
 #pragma once
 
 #include <functional>
@@ -16,21 +17,22 @@ struct EvaluatorOptions {
   int threads = 1;                 // OpenMP threads over the cases
   std::function<bool()> stop;      // polled by the simulator (Ctrl-C); null = never
   bool record = false;             // keep time histories (reports)
+  bool checks = false;             // also run the check cases (reports: every case of the study)
 };
 
 // The scene document with the variables set to x (physical units).
 toml::table designDocument(const Study& s, const std::vector<double>& x);
-// The drop cases of a design: scene cases re-read from the design's scene, new cases as given.
-std::vector<DropCase> designCases(const Study& s, const Scene& designScene);
+// The drop cases of a design, in the order of Study::cases: the steering cases, and with 'checks' the
+// check cases too. Scene cases are re-read from the design's scene, matrix cases get W made up on it.
+std::vector<DropCase> designCases(const Study& s, const Scene& designScene, bool checks);
 
-// Names and scales of the constraints a study declares, in the order of Evaluation::constraints:
-// stroke [m], tyre_deflection [m], static_stroke_low/high [m], bottoming [0/1], rebound [m].
+// Names and scales of the scalar constraints g_j (Study::items), in the order of Evaluation::constraints.
 std::vector<std::string> constraintNames(const Study& s);
 std::vector<double> constraintScales(const Study& s);
 
-// Objective and constraints from per-case metrics (pure; the reduction order is the case order).
-// 'tyreDeltaMax' [m] is the scene tyre's delta_max (used by tyre_deflection_max = "delta_max").
-Evaluation reduceMetrics(const Study& s, std::vector<CaseMetrics> cases, double tyreDeltaMax, double staticStroke);
+// Objective and constraints from the metrics of the cases (at least the steering ones, in study order)
+// and the static stroke [m] (NaN when not needed); pure, the reduction order is the case order.
+Evaluation reduceMetrics(const Study& s, std::vector<CaseMetrics> cases, double staticStroke);
 
 // The full evaluation of a design; never throws. 'results' (optional) receives the case results.
 Evaluation evaluateDesign(const Study& s, const std::vector<double>& x, const EvaluatorOptions& o,
@@ -38,8 +40,5 @@ Evaluation evaluateDesign(const Study& s, const std::vector<double>& x, const Ev
 
 // The study as an optimisation Problem.
 Problem makeProblem(const Study& s, const EvaluatorOptions& o);
-
-// delta_max [m] of the scene's first tyre (NaN if none).
-double sceneTyreDeltaMax(const Scene& scene);
 
 }  // namespace lg::optim

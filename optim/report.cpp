@@ -11,6 +11,11 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sim/io/compliance.hpp"
+#include "sim/io/files.hpp"
+#include "sim/io/plots.hpp"
+#include "sim/io/results.hpp"
+
 namespace fs = std::filesystem;
 
 namespace lg::optim {
@@ -37,28 +42,6 @@ std::string csvQuote(const std::string& s) {
     if (ch == '"') q += "\"\"";
     else if (ch == '\n' || ch == '\r') q += ' ';
     else q += ch;
-  }
-  return q + "\"";
-}
-
-std::string jsonString(const std::string& s) {
-  std::string q = "\"";
-  for (unsigned char ch : s) {
-    switch (ch) {
-      case '"': q += "\\\""; break;
-      case '\\': q += "\\\\"; break;
-      case '\n': q += "\\n"; break;
-      case '\t': q += "\\t"; break;
-      case '\r': q += "\\r"; break;
-      default:
-        if (ch < 0x20) {
-          char b[8];
-          std::snprintf(b, sizeof b, "\\u%04x", ch);
-          q += b;
-        } else {
-          q += static_cast<char>(ch);
-        }
-    }
   }
   return q + "\"";
 }
@@ -92,41 +75,50 @@ std::vector<std::string> csvSplit(const std::string& line) {
   return out;
 }
 
-void writeFile(const fs::path& p, const std::string& text) {
-  std::ofstream f(p, std::ios::binary | std::ios::trunc);
-  if (!f) throw std::runtime_error("cannot write '" + p.string() + "'");
-  f << text;
-  if (!f) throw std::runtime_error("cannot write '" + p.string() + "'");
-}
-
-std::string metricsJson(const CaseMetrics& m, const std::string& indent) {
-  std::ostringstream o;
-  o << "{\"name\": " << jsonString(m.name) << ", \"ok\": " << (m.ok ? "true" : "false")
-    << ", \"message\": " << jsonString(m.message) << ",\n"
-    << indent << " \"peak_load_N\": " << jsonNumber(m.peak_load_N) << ", \"t_peak_s\": " << jsonNumber(m.t_peak_s)
-    << ", \"load_factor\": " << jsonNumber(m.load_factor) << ",\n"
-    << indent << " \"stroke_max_m\": " << jsonNumber(m.stroke_max_m) << ", \"h_max_m\": " << jsonNumber(m.h_max_m)
-    << ", \"tyre_deflection_max_m\": " << jsonNumber(m.tyre_deflection_max_m) << ",\n"
-    << indent << " \"efficiency\": " << jsonNumber(m.efficiency)
-    << ", \"strut_efficiency\": " << jsonNumber(m.strut_efficiency)
-    << ", \"energy_absorbed_J\": " << jsonNumber(m.energy_absorbed_J) << ",\n"
-    << indent << " \"energy_balance_error\": " << jsonNumber(m.energy_balance_error)
-    << ", \"constraint_violation_max\": " << jsonNumber(m.constraint_violation_max)
-    << ", \"strut_force_max_N\": " << jsonNumber(m.strut_force_max_N) << ",\n"
-    << indent << " \"rebound_h_min_m\": " << jsonNumber(m.rebound_h_min_m)
-    << ", \"bottomed\": " << (m.bottomed ? "true" : "false") << ", \"steps\": " << m.steps
-    << ", \"rhs_evaluations\": " << m.rhs_evaluations << ", \"wall_time_s\": " << jsonNumber(m.wall_time_s) << "}";
-  return o.str();
-}
-
 std::string objectiveKind(const Study& s) {
   return s.objective.kind == ObjectiveKind::MinPeakLoad ? "min_peak_load" : "max_efficiency";
 }
-std::string aggregateName(const Study& s) { return s.objective.aggregate == Aggregate::Max ? "max" : "weighted_sum"; }
+std::string aggregateName(const Study& s) { return s.objective.aggregate == Aggregate::Worst ? "worst" : "weighted_sum"; }
+
+std::string casesOf(const Study& s, CaseRole role) {
+  std::string out;
+  for (const auto& c : s.cases)
+    if (c.role == role) out += (out.empty() ? "" : ", ") + c.dropCase.name;
+  return out.empty() ? "none" : out;
+}
+
+std::string limitsJson(const CaseVerdict& v) {
+  std::ostringstream o;
+  o << "[";
+  for (size_t i = 0; i < v.limits.size(); ++i) {
+    const auto& l = v.limits[i];
+    o << (i ? ", " : "") << "{\"metric\": " << jsonString(l.limit.metric) << ", \"value\": " << jsonNumber(l.value)
+      << ", \"relation\": " << jsonString(l.limit.upper ? "<=" : ">=") << ", \"limit\": " << jsonNumber(l.limit.bound)
+      << ", \"pass\": " << jsonBool(l.pass) << ", \"rule\": " << jsonString(l.limit.rule) << "}";
+  }
+  o << "]";
+  return o.str();
+}
+
+std::string casesJson(const Study& s, const std::vector<CaseVerdict>& verdicts, const std::string& in) {
+  std::ostringstream j;
+  j << "[\n";
+  for (size_t i = 0; i < verdicts.size(); ++i) {
+    const CaseVerdict& v = verdicts[i];
+    const StudyCase& c = s.cases[i];
+    j << in << "  {\"name\": " << jsonString(v.name) << ", \"role\": " << jsonString(roleName(c.role))
+      << ", \"origin\": " << jsonString(originName(c.origin)) << ", \"within_limits\": " << jsonBool(v.pass)
+      << ", \"violations\": [";
+    for (size_t k = 0; k < v.reasons.size(); ++k) j << (k ? ", " : "") << jsonString(v.reasons[k]);
+    j << "],\n" << in << "   \"limits\": " << limitsJson(v) << ",\n";
+    j << in << "   \"metrics\": " << metricsJson(v.metrics, in + "   ") << "}" << (i + 1 < verdicts.size() ? "," : "") << "\n";
+  }
+  j << in << "]";
+  return j.str();
+}
 
 std::string resultJson(const Study& s, const StudyResult& r, double wall) {
   const OptimizationResult& o = r.opt;
-  const auto names = constraintNames(s);
   std::ostringstream j;
   j << "{\n";
   j << "  \"study\": " << jsonString(s.name) << ",\n";
@@ -134,27 +126,36 @@ std::string resultJson(const Study& s, const StudyResult& r, double wall) {
   j << "  \"scene\": " << jsonString(s.sceneFile) << ",\n";
   j << "  \"algorithm\": {\"name\": " << jsonString(s.algorithm.name) << ", \"local\": " << jsonString(s.algorithm.local)
     << ", \"seed\": " << s.algorithm.seed << ", \"constraints\": "
-    << jsonString(constraintNames(s).empty() ? "none" : describeConstraintHandling(s.algorithm.name, s.algorithm.penalty))
-    << "},\n";
+    << jsonString(s.items.empty() ? "none" : describeConstraintHandling(s.algorithm.name, s.algorithm.penalty)) << "},\n";
   j << "  \"objective\": {\"kind\": " << jsonString(objectiveKind(s)) << ", \"aggregate\": " << jsonString(aggregateName(s))
-    << ", \"best\": " << jsonNumber(o.best.objective) << ", \"baseline\": " << jsonNumber(o.initial.objective)
-    << ", \"scale\": " << jsonNumber(o.objectiveScale) << "},\n";
-  j << "  \"feasible\": " << (o.feasible ? "true" : "false") << ",\n";
+    << ", \"cases\": " << jsonString(casesOf(s, CaseRole::Objective)) << ", \"best\": " << jsonNumber(o.best.objective)
+    << ", \"baseline\": " << jsonNumber(o.initial.objective) << ", \"scale\": " << jsonNumber(o.objectiveScale) << "},\n";
+  j << "  \"feasible\": " << jsonBool(o.feasible) << ",\n";
+  j << "  \"certification\": {\"basis\": " << jsonString(s.certification ? s.certification->basisName : "none")
+    << ", \"role\": " << jsonString(s.certification ? roleName(s.certificationRole) : "none")
+    << ", \"pass\": " << (s.certification ? jsonBool(r.certified) : "null") << "},\n";
+  j << "  \"checks_within_limits\": " << jsonBool(r.checksWithinLimits) << ",\n";
   j << "  \"variables\": [\n";
   for (size_t i = 0; i < s.variables.size(); ++i) {
     const Variable& v = s.variables[i];
     j << "    {\"path\": " << jsonString(v.path) << ", \"lower\": " << jsonNumber(v.lower) << ", \"upper\": "
-      << jsonNumber(v.upper) << ", \"log\": " << (v.log ? "true" : "false") << ", \"initial\": " << jsonNumber(o.x0[i])
+      << jsonNumber(v.upper) << ", \"log\": " << jsonBool(v.log) << ", \"initial\": " << jsonNumber(o.x0[i])
       << ", \"best\": " << jsonNumber(i < o.x.size() ? o.x[i] : NAN) << "}" << (i + 1 < s.variables.size() ? "," : "")
       << "\n";
   }
   j << "  ],\n";
   j << "  \"constraints\": [\n";
-  for (size_t k = 0; k < names.size(); ++k) {
+  for (size_t k = 0; k < s.items.size(); ++k) {
+    const ConstraintItem& it = s.items[k];
+    const ConstraintSpec& c = s.constraints[it.spec];
     const double gb = k < o.best.constraints.size() ? o.best.constraints[k] : NAN;
     const double g0 = k < o.initial.constraints.size() ? o.initial.constraints[k] : NAN;
-    j << "    {\"name\": " << jsonString(names[k]) << ", \"best\": " << jsonNumber(gb) << ", \"baseline\": " << jsonNumber(g0)
-      << ", \"rule\": \"<= 0\"}" << (k + 1 < names.size() ? "," : "") << "\n";
+    j << "    {\"name\": " << jsonString(it.name) << ", \"metric\": " << jsonString(c.metric) << ", \"case\": "
+      << jsonString(it.caseIndex >= 0 ? s.cases[it.caseIndex].dropCase.name : "") << ", \"relation\": "
+      << jsonString(c.upper ? "<=" : ">=") << ", \"bound\": " << jsonNumber(c.bound) << ", \"source\": "
+      << jsonString(c.source) << ", \"rule\": " << jsonString(c.rule) << ", \"g_best\": " << jsonNumber(gb)
+      << ", \"g_baseline\": " << jsonNumber(g0) << ", \"holds\": " << jsonBool(gb <= 0) << "}"
+      << (k + 1 < s.items.size() ? "," : "") << "\n";
   }
   j << "  ],\n";
   j << "  \"best_evaluation\": " << o.bestIndex << ",\n";
@@ -162,28 +163,10 @@ std::string resultJson(const Study& s, const StudyResult& r, double wall) {
   j << "  \"simulated_evaluations\": " << o.simulations << ",\n";
   j << "  \"wall_time_s\": " << jsonNumber(wall) << ",\n";
   j << "  \"nlopt\": {\"code\": " << o.nloptCode << ", \"name\": " << jsonString(o.nloptName)
-    << ", \"reason\": " << jsonString(o.reason) << ", \"converged\": " << (o.converged ? "true" : "false") << "},\n";
-  j << "  \"cases\": {\n    \"baseline\": [\n";
-  for (size_t i = 0; i < r.baselineCases.size(); ++i)
-    j << "      " << metricsJson(r.baselineCases[i], "      ") << (i + 1 < r.baselineCases.size() ? "," : "") << "\n";
-  j << "    ],\n    \"best\": [\n";
-  for (size_t i = 0; i < r.bestCases.size(); ++i)
-    j << "      " << metricsJson(r.bestCases[i], "      ") << (i + 1 < r.bestCases.size() ? "," : "") << "\n";
-  j << "    ]\n  }\n}\n";
+    << ", \"reason\": " << jsonString(o.reason) << ", \"converged\": " << jsonBool(o.converged) << "},\n";
+  j << "  \"cases\": {\n    \"baseline\": " << casesJson(s, r.baselineVerdicts, "    ") << ",\n";
+  j << "    \"best\": " << casesJson(s, r.bestVerdicts, "    ") << "\n  }\n}\n";
   return j.str();
-}
-
-bool haveGnuplot() { return std::system("command -v gnuplot >/dev/null 2>&1") == 0; }
-
-std::string gnuplotTerminal() {
-  return std::system("gnuplot -e 'set terminal pngcairo' >/dev/null 2>&1") == 0 ? "pngcairo size 900,560"
-                                                                                 : "png size 900,560";
-}
-
-std::string safeName(const std::string& n) {
-  std::string s;
-  for (char ch : n) s += (std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '_') ? ch : '_';
-  return s;
 }
 
 // Writes the data files and scripts under DIR/plots; runs gnuplot when present. Returns the markdown
@@ -205,35 +188,20 @@ std::string makePlots(const Study& s, const StudyResult& r, const std::vector<Ca
       if (h.feasible && (std::isnan(bestSoFar) || (maximize ? f > bestSoFar : f < bestSoFar))) bestSoFar = f;
       d << h.index << " " << num(f) << " " << (h.feasible ? 1 : 0) << " " << num(bestSoFar) << "\n";
     }
-    writeFile(pd / "convergence.dat", d.str());
-  }
-  // work diagrams
-  std::vector<std::string> workNames;
-  for (size_t i = 0; i < base.size() && i < best.size(); ++i) {
-    const std::string n = safeName(base[i].metrics.name);
-    for (int which = 0; which < 2; ++which) {
-      const auto& cr = which == 0 ? base[i] : best[i];
-      std::ostringstream d;
-      d << "# t[s] h[m] P_y[N] s[m] delta[m] P_a[N]\n";
-      for (const auto& smp : cr.samples)
-        d << num(smp.t) << " " << num(smp.h) << " " << num(smp.P_y) << " " << num(smp.s) << " " << num(smp.delta) << " "
-          << num(smp.P_a) << "\n";
-      writeFile(pd / ("work_" + n + (which == 0 ? "_baseline" : "_best") + ".dat"), d.str());
-    }
-    workNames.push_back(n);
+    writeFileAtomic((pd / "convergence.dat").string(), d.str());
   }
   // per-case figures
   {
     std::ostringstream d;
     d << "# i case peak_baseline[kN] peak_best[kN] eta_baseline eta_best\n";
     for (size_t i = 0; i < r.baselineCases.size() && i < r.bestCases.size(); ++i)
-      d << i << " " << safeName(r.baselineCases[i].name) << " " << num(r.baselineCases[i].peak_load_N / 1e3) << " "
+      d << i << " " << safeFileStem(r.baselineCases[i].name) << " " << num(r.baselineCases[i].peak_load_N / 1e3) << " "
         << num(r.bestCases[i].peak_load_N / 1e3) << " " << num(r.baselineCases[i].efficiency) << " "
         << num(r.bestCases[i].efficiency) << "\n";
-    writeFile(pd / "cases.dat", d.str());
+    writeFileAtomic((pd / "cases.dat").string(), d.str());
   }
   std::ostringstream gp;
-  gp << "set terminal " << (run ? gnuplotTerminal() : std::string("pngcairo size 900,560")) << "\n";
+  gp << "set terminal pngcairo size 900,560 noenhanced\n";
   gp << "set grid\nset key top right\n";
   gp << "set output 'convergence.png'\nset title 'Convergence: " << (maximize ? "efficiency" : "peak load [N]")
      << " per evaluation'\nset xlabel 'evaluation'\nset ylabel '" << (maximize ? "objective (efficiency)" : "objective [N]")
@@ -241,12 +209,6 @@ std::string makePlots(const Study& s, const StudyResult& r, const std::vector<Ca
   gp << "plot 'convergence.dat' using 1:($3==1?$2:1/0) with points pt 7 ps 0.6 lc rgb '#1f77b4' title 'feasible', \\\n"
         "     '' using 1:($3==0?$2:1/0) with points pt 6 ps 0.6 lc rgb '#d62728' title 'infeasible', \\\n"
         "     '' using 1:4 with steps lw 2 lc rgb '#2ca02c' title 'best feasible so far'\n";
-  for (const auto& n : workNames) {
-    gp << "set output 'work_" << n << ".png'\nset title 'Work diagram P_y(h), case " << n
-       << "'\nset xlabel 'h [m]'\nset ylabel 'P_y [kN]'\nset xrange [-0.02:*]\n";
-    gp << "plot 'work_" << n << "_baseline.dat' using 2:($3/1000) with lines lw 2 lc rgb '#7f7f7f' title 'baseline', \\\n"
-       << "     'work_" << n << "_best.dat' using 2:($3/1000) with lines lw 2 lc rgb '#1f77b4' title 'optimum'\n";
-  }
   gp << "set output 'cases.png'\nset multiplot layout 1,2 title 'Per case: baseline vs optimum'\n"
         "set style data histograms\nset style histogram clustered gap 1\nset style fill solid 0.8 border -1\n"
         "set autoscale x\nset boxwidth 0.9\nset xtics rotate by -30\nset key top left\nunset xlabel\n"
@@ -255,39 +217,78 @@ std::string makePlots(const Study& s, const StudyResult& r, const std::vector<Ca
         "set title 'efficiency'\nset ylabel 'eta [-]'\nset yrange [0:1]\n"
         "plot 'cases.dat' using 5:xtic(2) title 'baseline' lc rgb '#7f7f7f', '' using 6 title 'optimum' lc rgb '#1f77b4'\n"
         "unset multiplot\n";
-  writeFile(pd / "plots.gp", gp.str());
+  writeFileAtomic((pd / "plots.gp").string(), gp.str());
+  // One figure per case: the optimum against the baseline, with the case's limits.
+  std::vector<std::string> caseStems;
+  bool figuresOk = true;
+  for (size_t i = 0; i < base.size() && i < best.size() && i < r.bestVerdicts.size(); ++i) {
+    const CaseVerdict& v = r.bestVerdicts[i];
+    CaseFigure f;
+    char title[256];
+    std::snprintf(title, sizeof title, "%s: %s (%s), V = %.3f m/s, L = %.3g, W = %.0f kg: optimum %s", s.name.c_str(),
+                  v.name.c_str(), roleName(s.cases[i].role), v.metrics.sink_speed_mps, v.metrics.lift_ratio,
+                  v.metrics.mass_kg, v.pass ? "within its limits" : "EXCEEDS A LIMIT");
+    f.title = title;
+    f.run = &best[i];
+    f.baseline = &base[i];
+    f.runLabel = "optimum, compression";
+    f.limits = sceneLimits(s.scene);
+    if (s.certification) {
+      f.limits = compliancePlotLimits(s.scene, *s.certification, v);
+      if (s.cases[i].origin != CaseOrigin::Certification) f.limits.loadLimit = f.limits.loadUltimate = NAN;
+    }
+    const std::string stem = "case_" + safeFileStem(v.name);
+    std::string why;
+    if (!drawCaseFigure(f, pd.string(), stem, run, &why) && run) {
+      figuresOk = false;
+      warnings->push_back("picture of case " + v.name + ": " + why);
+    }
+    caseStems.push_back(stem);
+  }
   if (!run) return "";
   const std::string cmd = "cd '" + pd.string() + "' && gnuplot plots.gp > gnuplot.log 2>&1";
   if (std::system(cmd.c_str()) != 0) {
     warnings->push_back("gnuplot failed (see plots/gnuplot.log); pictures may be missing");
     return "";
   }
-  *made = true;
+  *made = figuresOk;
   std::string md;
-  md += "![convergence](plots/convergence.png)\n\n";
-  for (const auto& n : workNames) md += "![work diagram " + n + "](plots/work_" + n + ".png)\n\n";
-  md += "![per case](plots/cases.png)\n\n";
+  md += "![convergence](plots/convergence.png)\n\n![per case](plots/cases.png)\n\n";
+  for (size_t i = 0; i < caseStems.size(); ++i)
+    md += "![" + r.bestVerdicts[i].name + "](plots/" + caseStems[i] + ".png)\n\n";
   return md;
+}
+
+std::string verdictCell(const CaseVerdict& v) {
+  if (v.pass) return "within limits";
+  std::string s = "**EXCEEDS**: ";
+  for (size_t k = 0; k < v.reasons.size(); ++k) s += (k ? "; " : "") + v.reasons[k];
+  return s;
 }
 
 std::string reportMarkdown(const Study& s, const StudyResult& r, double wall, const std::string& pictures,
                            bool gnuplotPresent, bool plotsWanted) {
   const OptimizationResult& o = r.opt;
-  const auto names = constraintNames(s);
   const bool maximize = s.objective.kind == ObjectiveKind::MaxEfficiency;
   std::ostringstream m;
   m << "# Design study: " << s.name << "\n\n";
   m << "- study file: `" << s.file << "`\n- scene: `" << s.sceneFile << "`\n";
-  m << "- objective: " << objectiveKind(s) << " (aggregate " << aggregateName(s) << ") over cases:";
-  for (const auto& c : s.cases) m << " " << c.dropCase.name;
-  m << "\n- algorithm: " << s.algorithm.name << (s.algorithm.local.empty() ? "" : " (local " + s.algorithm.local + ")")
+  m << "- objective: " << objectiveKind(s) << " (aggregate " << aggregateName(s) << ") over the objective cases: "
+    << casesOf(s, CaseRole::Objective) << "\n";
+  m << "- constraint cases: " << casesOf(s, CaseRole::Constraint) << "; check cases (reported, never steer): "
+    << casesOf(s, CaseRole::Check) << "\n";
+  if (s.certification)
+    m << "- certification matrix: `" << s.certification->basisName << "`, its cases "
+      << (s.certificationRole == CaseRole::Check ? "reported as checks" : "constrain the design with its limits") << "\n";
+  m << "- algorithm: " << s.algorithm.name << (s.algorithm.local.empty() ? "" : " (local " + s.algorithm.local + ")")
     << ", seed " << s.algorithm.seed << ", constraints "
-    << (names.empty() ? "none" : describeConstraintHandling(s.algorithm.name, s.algorithm.penalty))
-    << "\n";
+    << (s.items.empty() ? "none" : describeConstraintHandling(s.algorithm.name, s.algorithm.penalty)) << "\n";
   m << "- result: **" << o.reason << "** (" << o.nloptName << "), " << o.evaluations << " evaluations ("
     << o.simulations << " simulated), best at evaluation " << o.bestIndex << ", wall time " << shortNum(wall, 4)
     << " s\n";
-  m << "- best design " << (o.feasible ? "is feasible" : "is **not feasible**") << "\n\n";
+  m << "- best design " << (o.feasible ? "is feasible (every constraint holds)" : "is **not feasible**");
+  if (s.certification) m << "; certification matrix: " << (r.certified ? "**PASS**" : "**FAIL**");
+  m << "; check cases: " << (r.checksWithinLimits ? "within their limits" : "**some exceed a limit** (see Cases)") << "\n\n";
   const double f0 = o.initial.objective, f1 = o.best.objective;
   m << "## Objective\n\n| | baseline | best | change |\n|---|---|---|---|\n";
   m << "| " << (maximize ? "efficiency [-]" : "peak load [N]") << " | " << shortNum(f0) << " | " << shortNum(f1) << " | "
@@ -299,39 +300,57 @@ std::string reportMarkdown(const Study& s, const StudyResult& r, double wall, co
     m << "| " << v.path << " | " << shortNum(v.lower) << " | " << shortNum(v.upper) << " | " << (v.log ? "log" : "linear")
       << " | " << shortNum(o.x0[i]) << " | " << shortNum(i < o.x.size() ? o.x[i] : NAN) << " |\n";
   }
-  if (!names.empty()) {
-    m << "\n## Constraints (g <= 0 is feasible)\n\n| constraint | baseline g | best g |\n|---|---|---|\n";
-    for (size_t k = 0; k < names.size(); ++k)
-      m << "| " << names[k] << " | " << shortNum(k < o.initial.constraints.size() ? o.initial.constraints[k] : NAN)
-        << " | " << shortNum(k < o.best.constraints.size() ? o.best.constraints[k] : NAN) << " |\n";
+  if (!s.items.empty()) {
+    m << "\n## Constraints (g <= 0 holds)\n\n| constraint | case | bound | source | baseline g | best g |\n"
+         "|---|---|---|---|---|---|\n";
+    for (size_t k = 0; k < s.items.size(); ++k) {
+      const ConstraintItem& it = s.items[k];
+      const ConstraintSpec& c = s.constraints[it.spec];
+      const double gb = k < o.best.constraints.size() ? o.best.constraints[k] : NAN;
+      const double g0 = k < o.initial.constraints.size() ? o.initial.constraints[k] : NAN;
+      m << "| " << c.metric << " | " << (it.caseIndex >= 0 ? s.cases[it.caseIndex].dropCase.name : "design") << " | "
+        << (c.upper ? "<= " : ">= ") << shortNum(c.bound) << " (" << c.rule << ") | " << c.source << " | "
+        << shortNum(g0) << (g0 > 0 ? " ✗" : "") << " | " << shortNum(gb) << (gb > 0 ? " **✗**" : "") << " |\n";
+    }
   }
-  m << "\n## Cases\n\n| case | peak load [kN] base → best | n_y | stroke [m] | tyre deflection [m] | efficiency | "
-       "bottomed |\n|---|---|---|---|---|---|---|\n";
-  for (size_t i = 0; i < r.baselineCases.size() && i < r.bestCases.size(); ++i) {
+  m << "\n## Cases: every case of the study, its scene and its matrix (baseline → best)\n\n"
+       "| case | role | V [m/s] | L | W [kg] | peak load [kN] | n_g | stroke [m] (margin) | tyre [m] (margin) | "
+       "efficiency | best design |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (size_t i = 0; i < r.baselineCases.size() && i < r.bestCases.size() && i < r.bestVerdicts.size(); ++i) {
     const auto& a = r.baselineCases[i];
     const auto& b = r.bestCases[i];
-    m << "| " << a.name << " | " << shortNum(a.peak_load_N / 1e3, 5) << " → " << shortNum(b.peak_load_N / 1e3, 5) << " | "
-      << shortNum(a.load_factor, 4) << " → " << shortNum(b.load_factor, 4) << " | " << shortNum(a.stroke_max_m, 4)
-      << " → " << shortNum(b.stroke_max_m, 4) << " | " << shortNum(a.tyre_deflection_max_m, 4) << " → "
-      << shortNum(b.tyre_deflection_max_m, 4) << " | " << shortNum(a.efficiency, 4) << " → " << shortNum(b.efficiency, 4)
-      << " | " << (a.bottomed ? "yes" : "no") << " → " << (b.bottomed ? "yes" : "no") << " |\n";
+    m << "| " << b.name << " | " << roleName(s.cases[i].role) << " | " << shortNum(b.sink_speed_mps, 4) << " | "
+      << shortNum(b.lift_ratio, 3) << " | " << shortNum(b.mass_kg, 6) << " | " << shortNum(a.peak_load_N / 1e3, 5)
+      << " → " << shortNum(b.peak_load_N / 1e3, 5) << " | " << shortNum(a.load_factor, 4) << " → "
+      << shortNum(b.load_factor, 4) << " | " << shortNum(a.stroke_max_m, 4) << " → " << shortNum(b.stroke_max_m, 4) << " ("
+      << shortNum(b.stroke_margin_m, 3) << ") | " << shortNum(a.tyre_deflection_max_m, 4) << " → "
+      << shortNum(b.tyre_deflection_max_m, 4) << " (" << shortNum(b.tyre_margin_m, 3) << ") | "
+      << shortNum(a.efficiency, 4) << " → " << shortNum(b.efficiency, 4) << " | " << verdictCell(r.bestVerdicts[i]) << " |\n";
   }
+  m << "\nLimits: matrix cases are held to the rules' limits (load factor, stroke margin, tyre); every other case to "
+       "the stroke and tyre limits and the study's constraints that name it. A check case that exceeds a limit is "
+       "shown here and does not make the design infeasible: only the constraint cases do.\n";
   m << "\n## Pictures\n\n";
-  if (!plotsWanted) m << "Pictures were not requested; the data and the gnuplot script are in `plots/`.\n";
-  else if (!gnuplotPresent) m << "gnuplot was not found, so no pictures were made; the data and the script are in `plots/` (run `gnuplot plots.gp` there).\n";
-  else if (pictures.empty()) m << "gnuplot failed (see `plots/gnuplot.log`); the data and the script are in `plots/`.\n";
+  if (!plotsWanted) m << "Pictures were not requested; the data and the gnuplot scripts are in `plots/`.\n";
+  else if (!gnuplotPresent) m << "gnuplot was not found, so no pictures were made; the data and the scripts are in `plots/` (run `gnuplot plots.gp` there).\n";
+  else if (pictures.empty()) m << "gnuplot failed (see `plots/gnuplot.log`); the data and the scripts are in `plots/`.\n";
   else m << pictures;
-  m << "\nFiles: `history.csv` (every evaluation), `result.json`, `best.toml` (run it with `simulate`).\n";
+  m << "\nFiles: `history.csv` (every evaluation), `result.json`, `best.toml` (run it with `simulate` or `certify`).\n";
   return m.str();
 }
 
 }  // namespace
 
-std::string jsonNumber(double v) {
-  if (!std::isfinite(v)) return "null";
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
+std::vector<Limit> reportLimits(const Study& s, int caseIndex) {
+  const StudyCase& c = s.cases[caseIndex];
+  std::vector<Limit> out;
+  const CertCase* cc = c.origin == CaseOrigin::Certification && s.certification ? s.certification->findCase(c.dropCase.name)
+                                                                                : nullptr;
+  out = cc ? caseLimits(*s.certification, *cc, s.scene) : checkLimits(s.certification.get(), s.scene);
+  for (const auto& spec : s.constraints)
+    if (spec.source == "study" && std::find(spec.cases.begin(), spec.cases.end(), caseIndex) != spec.cases.end())
+      out.push_back({spec.metric, spec.upper, spec.bound, spec.rule});
+  return out;
 }
 
 std::string historyHeader(const Study& s) {
@@ -343,12 +362,13 @@ std::string historyHeader(const Study& s) {
   return h;
 }
 
-std::string historyLine(const EvaluationRecord& r) {
+std::string historyLine(const Study& s, const EvaluationRecord& r) {
   std::string l = std::to_string(r.index);
   for (double x : r.x) l += "," + num(x);
   const Evaluation& e = r.evaluation;
   l += "," + num(e.ok ? e.objective : NAN);
-  for (double g : e.constraints) l += "," + num(e.ok ? g : NAN);
+  for (size_t k = 0; k < s.items.size(); ++k)  // every row has every field: a failed one too
+    l += "," + num(e.ok && k < e.constraints.size() ? e.constraints[k] : NAN);
   l += std::string(",") + (r.feasible ? "1" : "0") + ",";
   if (!e.ok) l += csvQuote(e.message.empty() ? "evaluation failed" : e.message);
   return l;
@@ -447,31 +467,59 @@ StudyResult runStudy(const Study& s, const RunOptions& o) {
   Observer obs;
   obs.stopRequested = o.stop;
   obs.onEvaluation = [&](const EvaluationRecord& r) {
-    hist << historyLine(r) << "\n" << std::flush;
+    hist << historyLine(s, r) << "\n" << std::flush;
+    if (!hist) throw std::runtime_error("cannot write '" + histPath.string() + "'");
     if (o.progress)
       o.progress(r, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   };
   res.opt = runOptimizer(p, a, obs, o.resume ? &cache : nullptr);
   hist.close();
 
-  // Baseline and best, re-simulated: metrics (record = false, as evaluated) and time histories.
-  EvaluatorOptions quiet;
-  quiet.threads = o.threads;
-  const Evaluation e0 = evaluateDesign(s, res.opt.x0, quiet);
-  const Evaluation e1 = evaluateDesign(s, res.opt.x, quiet);
-  res.baselineCases = e0.cases;
-  res.bestCases = e1.cases;
+  // Baseline and best re-simulated on every case of the study (steering cases and checks) with their
+  // time histories, and judged against each case's limits.
+  EvaluatorOptions all;
+  all.threads = o.threads;
+  all.record = true;
+  all.checks = true;
+  std::vector<CaseResult> baseRuns, bestRuns;
+  const Evaluation e0 = evaluateDesign(s, res.opt.x0, all, &baseRuns);
+  const Evaluation e1 = evaluateDesign(s, res.opt.x, all, &bestRuns);
+  for (const auto& r : baseRuns) res.baselineCases.push_back(r.metrics);
+  for (const auto& r : bestRuns) res.bestCases.push_back(r.metrics);
   if (res.opt.best.ok && e1.ok && e1.objective != res.opt.best.objective)
     res.warnings.push_back("re-simulating the best design gave objective " + num(e1.objective) + " instead of " +
                            num(res.opt.best.objective));
-  EvaluatorOptions rec = quiet;
-  rec.record = true;
-  std::vector<CaseResult> baseRuns, bestRuns;
-  (void)evaluateDesign(s, res.opt.x0, rec, &baseRuns);
-  (void)evaluateDesign(s, res.opt.x, rec, &bestRuns);
+  res.certified = s.certification != nullptr;
+  for (size_t i = 0; i < s.cases.size() && i < bestRuns.size(); ++i) {
+    const std::vector<Limit> limits = reportLimits(s, static_cast<int>(i));
+    auto verdict = [&](const CaseMetrics& m) {
+      CertCase cc;
+      cc.name = m.name;
+      cc.sinkSpeed = m.sink_speed_mps;
+      cc.liftRatio = m.lift_ratio;
+      cc.mass = m.mass_kg;
+      cc.duration = s.cases[i].dropCase.duration;
+      if (s.cases[i].origin == CaseOrigin::Certification)
+        if (const CertCase* c = s.certification->findCase(m.name)) cc = *c;
+      return assessCase(roleName(s.cases[i].role), cc, m, limits);
+    };
+    res.baselineVerdicts.push_back(verdict(res.baselineCases[i]));
+    res.bestVerdicts.push_back(verdict(res.bestCases[i]));
+    const CaseVerdict& v = res.bestVerdicts.back();
+    if (s.cases[i].origin == CaseOrigin::Certification) res.certified = res.certified && v.pass;
+    if (!v.pass) {
+      if (!s.cases[i].steers()) res.checksWithinLimits = false;
+      std::string why;
+      for (size_t k = 0; k < v.reasons.size(); ++k) why += (k ? "; " : "") + v.reasons[k];
+      res.warnings.push_back("the best design exceeds a limit in " + std::string(roleName(s.cases[i].role)) +
+                             " case '" + v.name + "': " + why);
+    }
+  }
+  if (s.certification)
+    for (const auto& u : unitItems(*s.certification)) res.certified = res.certified && u.pass;
 
   res.bestToml = bestSceneText(s, res.opt.x, dir.string());
-  writeFile(dir / "best.toml", res.bestToml);
+  writeFileAtomic((dir / "best.toml").string(), res.bestToml);
 
   const bool gp = o.plots && haveGnuplot();
   bool made = false;
@@ -480,8 +528,8 @@ StudyResult runStudy(const Study& s, const RunOptions& o) {
   if (o.plots && !gp) res.warnings.push_back("gnuplot not found: report.md has no pictures");
 
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  writeFile(dir / "result.json", resultJson(s, res, wall));
-  writeFile(dir / "report.md", reportMarkdown(s, res, wall, pics, gp, o.plots));
+  writeFileAtomic((dir / "result.json").string(), resultJson(s, res, wall));
+  writeFileAtomic((dir / "report.md").string(), reportMarkdown(s, res, wall, pics, gp, o.plots));
   return res;
 }
 

@@ -1,9 +1,10 @@
 // Running a study with its outputs in DIR:
 //   history.csv  one line per evaluation, flushed as it finishes: eval, variables (physical units),
 //                objective, each constraint g_j (<= 0 is feasible), feasible (0/1), reason
-//   result.json  best design, objective, constraints, per-case metrics of best and baseline,
-//                evaluations, wall time, NLopt result code and a human reason
-//   best.toml    the scene with the best variables (runnable with `simulate`)
+//   result.json  best design, objective, constraints, every case of the study (steering and checks) for
+//                baseline and best with its limits and verdict, the certification verdict, evaluations,
+//                wall time, NLopt result code and a human reason
+//   best.toml    the scene with the best variables (runnable with `simulate` and `certify`)
 //   report.md    tables and gnuplot pictures (plots/*.png; skipped, and said so, without gnuplot)
 #pragma once
 
@@ -14,8 +15,11 @@
 #include "optim/evaluator.hpp"
 #include "optim/optimizer.hpp"
 #include "optim/study.hpp"
+#include "sim/io/json.hpp"
 
 namespace lg::optim {
+
+using lg::jsonNumber;
 
 struct RunOptions {
   std::string outDir = "study-out";
@@ -29,26 +33,33 @@ struct RunOptions {
 
 struct StudyResult {
   OptimizationResult opt;
-  std::vector<CaseMetrics> baselineCases, bestCases;  // re-simulated, record = false
-  std::string bestToml;                               // the text written to best.toml
-  bool gnuplot = false;                               // pictures were made
+  // Every case of the study (Study::cases order: steering, then checks), re-simulated for the baseline
+  // and the best design, and judged against its limits (matrix cases: the rules'; other cases: the
+  // stroke and tyre limits and the study's constraints on them).
+  std::vector<CaseMetrics> baselineCases, bestCases;
+  std::vector<CaseVerdict> baselineVerdicts, bestVerdicts;
+  bool certified = false;        // the best design passes every matrix case (false without a matrix)
+  bool checksWithinLimits = true;  // the best design's check cases are within their limits
+  std::string bestToml;          // the text written to best.toml
+  bool gnuplot = false;          // pictures were made
   std::vector<std::string> warnings;
 };
 
 // Runs the study and writes DIR; throws only for I/O errors (std::runtime_error).
 StudyResult runStudy(const Study& s, const RunOptions& o);
 
+// The limits a case of the study is judged against in the report (not the constraints NLopt sees:
+// those are Study::items).
+std::vector<Limit> reportLimits(const Study& s, int caseIndex);
+
 // History file (CSV).
 std::string historyHeader(const Study& s);
-std::string historyLine(const EvaluationRecord& r);
+std::string historyLine(const Study& s, const EvaluationRecord& r);
 // Reads a history written for the same study header; returns the evaluations by bits of x.
 // A missing file gives an empty cache; a different header gives an empty cache and a warning.
 EvaluationCache readHistory(const std::string& path, const Study& s, std::string* warning = nullptr);
 
 // best.toml text: the design's document, relative table paths rewritten to stay valid from outDir.
 std::string bestSceneText(const Study& s, const std::vector<double>& x, const std::string& outDir);
-
-// JSON number: %.17g (exact round trip), null when not finite.
-std::string jsonNumber(double v);
 
 }  // namespace lg::optim

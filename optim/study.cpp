@@ -8,9 +8,9 @@
 
 #include <nlopt.h>
 
-#include "optim/evaluator.hpp"
 #include "optim/optimizer.hpp"
 #include "sim/io/toml_reader.hpp"
+#include "sim/metrics.hpp"
 
 namespace lg::optim {
 
@@ -39,6 +39,328 @@ bool nativeConstraints(const std::string& a) {
          a == "AUGLAG_EQ" || a == "LN_AUGLAG_EQ";
 }
 
+const char* roleName(CaseRole r) {
+  switch (r) {
+    case CaseRole::Objective: return "objective";
+    case CaseRole::Constraint: return "constraint";
+    default: return "check";
+  }
+}
+const char* originName(CaseOrigin o) {
+  switch (o) {
+    case CaseOrigin::Scene: return "scene";
+    case CaseOrigin::Certification: return "certification";
+    default: return "study";
+  }
+}
+
+int Study::steeringCases() const {
+  int n = 0;
+  for (const auto& c : cases) n += c.steers() ? 1 : 0;
+  return n;
+}
+
+namespace {
+
+CaseRole parseRole(const TomlReader& r, const std::string& key, CaseRole def) {
+  if (!r.has(key)) return def;
+  const std::string v = r.string(key);
+  if (v == "objective") return CaseRole::Objective;
+  if (v == "constraint") return CaseRole::Constraint;
+  if (v == "check") return CaseRole::Check;
+  r.fail(key, "value '" + v + "' must be \"objective\", \"constraint\" or \"check\"");
+}
+
+// What the scene must declare for a metric to mean something; an empty string when it does.
+std::string metricNeeds(const Scene& sc, const std::string& metric) {
+  const bool tyre = !sc.roles.tyres.empty(), strut = !sc.roles.struts.empty(), airframe = !sc.roles.airframe.empty();
+  bool stop = false;
+  for (double S : sc.roles.strokeLimits) stop = stop || std::isfinite(S);
+  if ((metric == "stroke" || metric == "strut_efficiency" || metric == "strut_force" || metric == "static_stroke") && !strut)
+    return "a shock absorber";
+  if (metric == "stroke_margin" && !stop) return "a strut with a bottoming stop (a min_distance stop on its two points)";
+  if ((metric == "peak_load" || metric == "load_factor" || metric == "inertia_load_factor" ||
+       metric == "tyre_deflection" || metric == "tyre_margin" || metric == "efficiency" || metric == "energy_absorbed") &&
+      !tyre)
+    return "a tyre";
+  if ((metric == "h_max" || metric == "efficiency" || metric == "rebound_velocity" || metric == "energy_absorbed") &&
+      !airframe)
+    return "an airframe body ([scene] airframe, or a lift element)";
+  return "";
+}
+
+// [certification]: the scene's table with the study's keys laid over it (role excepted).
+void parseCertificationTable(const toml::table& doc, const std::string& file, Study& s) {
+  const toml::table* t = tableOf(doc, "certification", file);
+  if (!t) {
+    s.certification = s.scene.certification;
+    s.certificationRole = CaseRole::Check;
+    return;
+  }
+  TomlReader r(*t, file, "certification");
+  s.certificationRole = parseRole(r, "role", CaseRole::Constraint);
+  if (s.certificationRole == CaseRole::Objective)
+    r.fail("role", "the whole matrix cannot be the objective: name the cases to minimise as [[case]] with role = \"objective\"");
+  toml::table merged;
+  if (const toml::table* st = s.scene.doc["certification"].as_table()) merged = *st;
+  for (const auto& [k, v] : *t)
+    if (k.str() != "role") merged.insert_or_assign(k, v);
+  if (merged.empty())
+    r.fail("role", "the scene has no [certification] table: give the matrix here (basis, landing_mass, limit_load_factor, ...)");
+  try {
+    s.certification = std::make_shared<const Certification>(parseCertification(merged, file, s.scene));
+  } catch (const InputError& e) {
+    // The merged table's nodes carry no lines: name the file and line the offending key came from.
+    std::string key = e.key().rfind("certification.", 0) == 0 ? e.key().substr(14) : e.key();
+    key = key.substr(0, key.find_first_of(".["));
+    const std::string rule = std::string(e.what()).substr(InputError::format(e.file(), e.line(), e.key(), "").size());
+    if (t->contains(key)) throw InputError(file, TomlReader(*t, file, "").lineOf(key), e.key(), rule);
+    if (const toml::table* st = s.scene.doc["certification"].as_table(); st && st->contains(key))
+      throw InputError(s.sceneFile, TomlReader(*st, s.sceneFile, "").lineOf(key), e.key(), rule);
+    throw InputError(file, r.line(), e.key(), rule);
+  }
+  s.scene.doc.insert_or_assign("certification", merged);  // best.toml keeps the matrix the study used
+  s.scene.certification = s.certification;
+}
+
+// [[case]]: the study's cases with their roles, then every case of the scene and of the matrix that the
+// study does not name (checks; the matrix's with the [certification] role). Steering cases come first.
+void parseCases(const toml::table& doc, const std::string& file, Study& s) {
+  const auto rows = tablesOf(doc, "case", file);
+  std::set<std::string> named;
+  std::vector<StudyCase> cases;
+  const Certification* cert = s.certification.get();
+  for (size_t i = 0; i < rows.size(); ++i) {
+    TomlReader r(*rows[i], file, "case[" + std::to_string(i) + "]");
+    r.allowOnly({"name", "role", "sink_speed", "lift_ratio", "duration", "masses", "weight"});
+    StudyCase c;
+    c.line = r.line();
+    c.role = parseRole(r, "role", CaseRole::Objective);
+    c.weight = r.positive("weight", 1.0);
+    const std::string name = r.string("name", "case" + std::to_string(i));
+    if (name.empty()) r.fail("name", "a case needs a non-empty name");
+    if (!named.insert(name).second) r.fail("name", "case '" + name + "' appears twice in the study");
+    const DropCase* sceneCase = nullptr;
+    for (const auto& sc : s.scene.cases)
+      if (sc.name == name) sceneCase = &sc;
+    const CertCase* certCase = cert ? cert->findCase(name) : nullptr;
+    const bool overrides = r.has("sink_speed") || r.has("lift_ratio") || r.has("duration") || r.has("masses");
+    if (certCase) {
+      if (overrides)
+        r.fail(r.has("sink_speed") ? "sink_speed" : r.has("lift_ratio") ? "lift_ratio" : r.has("duration") ? "duration" : "masses",
+               "'" + name + "' is a case of the certification matrix: its numbers come from [certification]; give a new "
+               "case its own name to change them");
+      c.origin = CaseOrigin::Certification;
+      c.dropCase = certDropCase(s.scene, *cert, *certCase);
+    } else if (sceneCase) {
+      c.dropCase = *sceneCase;
+      c.origin = overrides ? CaseOrigin::Study : CaseOrigin::Scene;
+    } else {
+      if (!r.has("sink_speed")) {
+        std::string list;
+        for (const auto& sc : s.scene.cases) list += (list.empty() ? "" : ", ") + sc.name;
+        if (cert)
+          for (const auto& cc : cert->cases) list += (list.empty() ? "" : ", ") + cc.name;
+        r.fail(r.has("name") ? "name" : "sink_speed",
+               "'" + name + "' is not a case of the scene or of its certification matrix (there are: " +
+                   (list.empty() ? "none" : list) + "); a new case needs sink_speed and lift_ratio");
+      }
+      if (!r.has("lift_ratio")) r.fail("lift_ratio", "missing required number (a new case needs sink_speed and lift_ratio)");
+      c.dropCase.name = name;
+      c.origin = CaseOrigin::Study;
+    }
+    if (r.has("sink_speed")) {
+      c.dropCase.sinkSpeed = r.number("sink_speed");
+      if (!(c.dropCase.sinkSpeed > 0))
+        r.fail("sink_speed", "value " + fmt(c.dropCase.sinkSpeed) + " must be > 0 [m/s]: a drop starts moving (the "
+                             "efficiency and the energy balance are measured against the initial kinetic energy)");
+    }
+    c.dropCase.liftRatio = r.nonNegative("lift_ratio", c.dropCase.liftRatio);
+    c.dropCase.duration = r.positive("duration", c.dropCase.duration);
+    if (c.dropCase.liftRatio > 0 && s.scene.roles.lifts.empty())
+      r.fail("lift_ratio", "the scene declares no lift element");
+    if (const toml::node* mn = r.get("masses")) {
+      const toml::table* mt = mn->as_table();
+      if (!mt) r.fail("masses", "must be a table of body = mass [kg]");
+      TomlReader mr(*mt, file, r.full("masses"));
+      for (const auto& [k, v] : *mt) {
+        const std::string body(k.str());
+        if (s.scene.model.bodyIndex(body) < 0) mr.fail(body, "'" + body + "' is not a body of the scene");
+        c.dropCase.masses[body] = mr.positive(body, 0.0);
+      }
+    }
+    cases.push_back(c);
+  }
+  if (cert)
+    for (const auto& cc : cert->cases)
+      if (!named.count(cc.name)) {
+        StudyCase c;
+        c.dropCase = certDropCase(s.scene, *cert, cc);
+        c.role = s.certificationRole;
+        c.origin = CaseOrigin::Certification;
+        cases.push_back(c);
+      }
+  for (const auto& sc : s.scene.cases)
+    if (!named.count(sc.name)) {
+      StudyCase c;
+      c.dropCase = sc;
+      c.role = CaseRole::Check;
+      c.origin = CaseOrigin::Scene;
+      cases.push_back(c);
+    }
+  std::stable_partition(cases.begin(), cases.end(), [](const StudyCase& c) { return c.steers(); });
+  s.cases = std::move(cases);
+}
+
+// [objective]
+void parseObjective(const toml::table& doc, const std::string& file, Study& s) {
+  if (const toml::table* t = tableOf(doc, "objective", file)) {
+    TomlReader r(*t, file, "objective");
+    r.allowOnly({"kind", "aggregate"});
+    const std::string kind = r.string("kind", "min_peak_load");
+    if (kind == "min_peak_load") s.objective.kind = ObjectiveKind::MinPeakLoad;
+    else if (kind == "max_efficiency") s.objective.kind = ObjectiveKind::MaxEfficiency;
+    else r.fail("kind", "value '" + kind + "' must be \"min_peak_load\" or \"max_efficiency\"");
+    const std::string agg = r.string("aggregate", "worst");
+    if (agg == "worst") s.objective.aggregate = Aggregate::Worst;
+    else if (agg == "weighted_sum") s.objective.aggregate = Aggregate::WeightedSum;
+    else if (agg == "max" || agg == "min")
+      r.fail("aggregate", "value '" + agg + "' is now \"worst\": the largest peak load, or the smallest efficiency, of "
+                          "the objective cases");
+    else r.fail("aggregate", "value '" + agg + "' must be \"worst\" or \"weighted_sum\"");
+  }
+  bool any = false;
+  for (const auto& c : s.cases) any = any || c.role == CaseRole::Objective;
+  if (!any)
+    throw InputError(file, 0, "case",
+                     "no objective case: name at least one [[case]] with role = \"objective\" (the default role)");
+}
+
+// [[constraint]], then the certification matrix's limits on its steering cases.
+void parseConstraints(const toml::table& doc, const std::string& file, Study& s) {
+  const auto rows = tablesOf(doc, "constraint", file);
+  const int steering = s.steeringCases();
+  for (size_t i = 0; i < rows.size(); ++i) {
+    TomlReader r(*rows[i], file, "constraint[" + std::to_string(i) + "]");
+    r.allowOnly({"metric", "min", "max", "cases"});
+    const std::string metric = r.string("metric");
+    const MetricInfo* info = findMetric(metric);
+    const bool design = metric == "static_stroke";
+    if (!info && !design)
+      r.fail("metric", "value '" + metric + "' must be a case metric (" + metricNames() + ") or \"static_stroke\"");
+    if (const std::string need = metricNeeds(s.scene, metric); !need.empty())
+      r.fail("metric", "'" + metric + "' needs " + need + " in the scene");
+    if (!r.has("min") && !r.has("max")) r.fail("metric", "give a bound: min = ... or max = ... (or both)");
+    std::vector<int> idx;
+    if (design) {
+      if (r.has("cases")) r.fail("cases", "static_stroke is a figure of the design (the strut settled under 1 g), not of a case");
+      s.staticStrokeNeeded = true;
+    } else if (const toml::node* n = r.get("cases"); n && n->is_array()) {
+      for (const auto& e : *n->as_array()) {
+        if (!e.is_string()) r.fail("cases", "must be a list of case names, or one of \"steering\", \"objective\", \"constraint\"");
+        const std::string name(*e.value<std::string>());
+        int found = -1;
+        for (size_t k = 0; k < s.cases.size(); ++k)
+          if (s.cases[k].dropCase.name == name) found = static_cast<int>(k);
+        if (found < 0) r.fail("cases", "'" + name + "' is not a case of the study, its scene or its matrix");
+        if (!s.cases[found].steers())
+          r.fail("cases", "'" + name + "' is a check case: checks never steer; give it role = \"constraint\" in a [[case]]");
+        if (std::find(idx.begin(), idx.end(), found) == idx.end()) idx.push_back(found);
+      }
+      if (idx.empty()) r.fail("cases", "names no case");
+    } else {
+      const std::string sel = n ? (n->is_string() ? std::string(*n->value<std::string>()) : std::string("?")) : "steering";
+      for (int k = 0; k < steering; ++k) {
+        const CaseRole role = s.cases[k].role;
+        if (sel == "steering" || (sel == "objective" && role == CaseRole::Objective) ||
+            (sel == "constraint" && role == CaseRole::Constraint))
+          idx.push_back(k);
+      }
+      if (sel != "steering" && sel != "objective" && sel != "constraint")
+        r.fail("cases", "must be a list of case names, or one of \"steering\" (objective and constraint cases, the "
+                        "default), \"objective\", \"constraint\"");
+      if (idx.empty()) r.fail("cases", "\"" + sel + "\" selects no case of this study");
+    }
+    const double unitScale = design ? 0.01 : info->scale;
+    for (const char* key : {"max", "min"}) {
+      if (!r.has(key)) continue;
+      ConstraintSpec c;
+      c.metric = metric;
+      c.upper = std::string(key) == "max";
+      c.bound = r.number(key);
+      c.scale = std::max(std::abs(c.bound), unitScale);
+      c.cases = idx;
+      c.source = "study";
+      c.rule = metric + (c.upper ? " <= " : " >= ") + fmt(c.bound) + " " + (design ? "m" : info->unit);
+      c.line = r.lineOf(key);
+      s.constraints.push_back(c);
+    }
+    if (r.has("min") && r.has("max") && !(r.number("min") < r.number("max")))
+      r.fail("max", "max " + fmt(r.number("max")) + " must be greater than min " + fmt(r.number("min")));
+  }
+  if (s.certification)
+    for (int k = 0; k < steering; ++k) {
+      if (s.cases[k].origin != CaseOrigin::Certification) continue;
+      const CertCase* cc = s.certification->findCase(s.cases[k].dropCase.name);
+      for (const Limit& l : caseLimits(*s.certification, *cc, s.scene)) {
+        ConstraintSpec c;
+        c.metric = l.metric;
+        c.upper = l.upper;
+        c.bound = l.bound;
+        c.scale = std::max(std::abs(l.bound), findMetric(l.metric)->scale);
+        c.cases = {k};
+        c.source = "certification";
+        c.rule = l.rule;
+        c.line = s.certification->line;
+        s.constraints.push_back(c);
+      }
+    }
+  // The scalar constraints g_j: one per spec and case, named metric@case (unique).
+  std::set<std::string> names;
+  for (size_t j = 0; j < s.constraints.size(); ++j) {
+    const ConstraintSpec& c = s.constraints[j];
+    std::vector<int> on = c.cases.empty() ? std::vector<int>{-1} : c.cases;
+    for (int k : on) {
+      ConstraintItem it;
+      it.spec = static_cast<int>(j);
+      it.caseIndex = k;
+      std::string base = c.metric + (c.upper ? "_max" : "_min") + (k >= 0 ? "@" + s.cases[k].dropCase.name : "");
+      it.name = base;
+      for (int n = 2; !names.insert(it.name).second; ++n) it.name = base + "#" + std::to_string(n);
+      s.items.push_back(it);
+    }
+  }
+}
+
+// [algorithm]
+void parseAlgorithm(const toml::table& doc, const std::string& file, Study& s) {
+  const toml::table* t = tableOf(doc, "algorithm", file);
+  if (!t) return;
+  TomlReader r(*t, file, "algorithm");
+  r.allowOnly({"name", "local", "maxeval", "maxtime", "xtol_rel", "ftol_rel", "seed", "penalty", "initial_step"});
+  AlgorithmSettings& a = s.algorithm;
+  a.name = r.string("name", a.name);
+  a.local = r.string("local", "");
+  if (std::string rule = checkAlgorithm(a.name, a.local); !rule.empty())
+    r.fail(rule.rfind("local", 0) == 0 ? "local" : "name", rule);
+  const long long me = r.integer("maxeval", a.maxeval);
+  if (me < 0 || me > 100000000) r.fail("maxeval", "value " + std::to_string(me) + " must be in [0, 1e8] (0: no limit)");
+  a.maxeval = static_cast<int>(me);
+  a.maxtime = r.nonNegative("maxtime", a.maxtime);
+  a.xtolRel = r.nonNegative("xtol_rel", a.xtolRel);
+  a.ftolRel = r.nonNegative("ftol_rel", a.ftolRel);
+  const long long seed = r.integer("seed", a.seed);
+  if (seed < 0 || seed > 4294967295LL) r.fail("seed", "value " + std::to_string(seed) + " must be in [0, 2^32)");
+  a.seed = static_cast<unsigned>(seed);
+  a.penalty = r.positive("penalty", a.penalty);
+  a.initialStep = r.nonNegative("initial_step", a.initialStep);
+  if (a.initialStep > 1) r.fail("initial_step", "value " + fmt(a.initialStep) + " must be <= 1 (scaled units)");
+  if (a.maxeval == 0 && a.maxtime == 0 && a.xtolRel == 0 && a.ftolRel == 0)
+    r.fail("maxeval", "give at least one stopping rule (maxeval, maxtime, xtol_rel or ftol_rel)");
+}
+
+}  // namespace
+
 // ---- parsing ---------------------------------------------------------------------------------------
 Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir) {
   toml::table doc;
@@ -50,7 +372,11 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
   Study s;
   s.file = file;
   TomlReader top(doc, file, "");
-  top.allowOnly({"name", "description", "scene", "solver", "variable", "case", "objective", "constraints", "algorithm"});
+  if (top.has("constraints"))
+    top.fail("constraints", "the [constraints] table was replaced by a list of [[constraint]] tables, one bound each, "
+                            "e.g. [[constraint]] metric = \"stroke_margin\" min = 0.01 (README, \"Study files\")");
+  top.allowOnly({"name", "description", "scene", "solver", "variable", "case", "objective", "constraint", "certification",
+                 "algorithm"});
   s.name = top.string("name", std::filesystem::path(file).stem().string());
   (void)top.string("description", "");
 
@@ -90,6 +416,8 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
     s.scene = buildScene(s.scene.doc, s.sceneFile, s.sceneDir);
   }
 
+  parseCertificationTable(doc, file, s);
+
   // [[variable]]
   const auto vars = tablesOf(doc, "variable", file);
   if (vars.empty()) throw InputError(file, 0, "variable", "a study needs at least one [[variable]]");
@@ -127,125 +455,10 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
     s.variables.push_back(v);
   }
 
-  // [[case]]
-  const auto cases = tablesOf(doc, "case", file);
-  if (cases.empty()) throw InputError(file, 0, "case", "a study needs at least one [[case]]");
-  std::set<std::string> caseNames;
-  for (size_t i = 0; i < cases.size(); ++i) {
-    TomlReader r(*cases[i], file, "case[" + std::to_string(i) + "]");
-    r.allowOnly({"name", "sink_speed", "lift_ratio", "duration", "masses", "weight"});
-    StudyCase c;
-    c.line = r.line();
-    c.weight = r.positive("weight", 1.0);
-    const std::string name = r.string("name", "case" + std::to_string(i));
-    if (!caseNames.insert(name).second) r.fail("name", "case '" + name + "' appears twice in the study");
-    const DropCase* sceneCase = nullptr;
-    for (const auto& sc : s.scene.cases)
-      if (sc.name == name) sceneCase = &sc;
-    const bool overrides = r.has("sink_speed") || r.has("lift_ratio") || r.has("duration") || r.has("masses");
-    if (sceneCase) {
-      c.dropCase = *sceneCase;
-      c.fromScene = !overrides;
-    } else {
-      if (!r.has("sink_speed")) {
-        std::string list;
-        for (const auto& sc : s.scene.cases) list += (list.empty() ? "" : ", ") + sc.name;
-        r.fail(r.has("name") ? "name" : "sink_speed",
-               "'" + name + "' is not a case of the scene (it has: " + (list.empty() ? "none" : list) +
-                   "); a new case needs sink_speed and lift_ratio");
-      }
-      if (!r.has("lift_ratio")) r.fail("lift_ratio", "missing required number (a new case needs sink_speed and lift_ratio)");
-      c.dropCase.name = name;
-    }
-    c.dropCase.sinkSpeed = r.nonNegative("sink_speed", c.dropCase.sinkSpeed);
-    c.dropCase.liftRatio = r.nonNegative("lift_ratio", c.dropCase.liftRatio);
-    c.dropCase.duration = r.positive("duration", c.dropCase.duration);
-    if (c.dropCase.liftRatio > 0 && s.scene.roles.lifts.empty())
-      r.fail("lift_ratio", "the scene declares no lift element");
-    if (const toml::node* mn = r.get("masses")) {
-      const toml::table* mt = mn->as_table();
-      if (!mt) r.fail("masses", "must be a table of body = mass [kg]");
-      TomlReader mr(*mt, file, r.full("masses"));
-      for (const auto& [k, v] : *mt) {
-        const std::string body(k.str());
-        if (s.scene.model.bodyIndex(body) < 0) mr.fail(body, "'" + body + "' is not a body of the scene");
-        c.dropCase.masses[body] = mr.positive(body, 0.0);
-      }
-    }
-    s.cases.push_back(c);
-  }
-
-  // [objective]
-  if (const toml::table* t = tableOf(doc, "objective", file)) {
-    TomlReader r(*t, file, "objective");
-    r.allowOnly({"kind", "aggregate"});
-    const std::string kind = r.string("kind", "min_peak_load");
-    if (kind == "min_peak_load") s.objective.kind = ObjectiveKind::MinPeakLoad;
-    else if (kind == "max_efficiency") s.objective.kind = ObjectiveKind::MaxEfficiency;
-    else r.fail("kind", "value '" + kind + "' must be \"min_peak_load\" or \"max_efficiency\"");
-    const std::string agg = r.string("aggregate", "max");
-    if (agg == "max") s.objective.aggregate = Aggregate::Max;
-    else if (agg == "weighted_sum") s.objective.aggregate = Aggregate::WeightedSum;
-    else r.fail("aggregate", "value '" + agg + "' must be \"max\" or \"weighted_sum\"");
-  }
-
-  // [constraints]
-  if (const toml::table* t = tableOf(doc, "constraints", file)) {
-    TomlReader r(*t, file, "constraints");
-    r.allowOnly({"stroke_max", "stroke_margin", "tyre_deflection_max", "static_stroke", "no_bottoming", "rebound_max"});
-    Constraints& c = s.constraints;
-    if (r.has("stroke_max")) c.strokeMax = r.positive("stroke_max", 0.0);
-    c.strokeMargin = r.nonNegative("stroke_margin", 0.0);
-    if (r.has("stroke_margin") && !c.strokeMax) r.fail("stroke_margin", "needs stroke_max");
-    if (c.strokeMax && !(c.strokeMargin < *c.strokeMax))
-      r.fail("stroke_margin", "stroke_margin " + fmt(c.strokeMargin) + " must be smaller than stroke_max " + fmt(*c.strokeMax));
-    if (const toml::node* n = r.get("tyre_deflection_max")) {
-      if (n->is_string()) {
-        const std::string v(*n->value<std::string>());
-        if (v != "delta_max") r.fail("tyre_deflection_max", "value '" + v + "' must be \"delta_max\" or a number [m]");
-        if (std::isnan(sceneTyreDeltaMax(s.scene)))
-          r.fail("tyre_deflection_max", "\"delta_max\" needs a tyre element in the scene");
-        c.tyreDeflectionFromScene = true;
-      } else {
-        c.tyreDeflectionMax = r.positive("tyre_deflection_max", 0.0);
-      }
-    }
-    if (const toml::node* n = r.get("static_stroke")) {
-      const toml::array* a = n->as_array();
-      if (!a || a->size() != 2) r.fail("static_stroke", "must be [lower, upper] in m");
-      const double lo = r.toNumber(*a->get(0), "static_stroke"), hi = r.toNumber(*a->get(1), "static_stroke");
-      if (!(lo >= 0 && hi > lo)) r.fail("static_stroke", "needs 0 <= lower < upper, got [" + fmt(lo) + ", " + fmt(hi) + "]");
-      c.staticStrokeLower = lo;
-      c.staticStrokeUpper = hi;
-    }
-    c.noBottoming = r.boolean("no_bottoming", false);
-    if (r.has("rebound_max")) c.reboundMax = r.number("rebound_max");
-  }
-
-  // [algorithm]
-  if (const toml::table* t = tableOf(doc, "algorithm", file)) {
-    TomlReader r(*t, file, "algorithm");
-    r.allowOnly({"name", "local", "maxeval", "maxtime", "xtol_rel", "ftol_rel", "seed", "penalty", "initial_step"});
-    AlgorithmSettings& a = s.algorithm;
-    a.name = r.string("name", a.name);
-    a.local = r.string("local", "");
-    if (std::string rule = checkAlgorithm(a.name, a.local); !rule.empty())
-      r.fail(rule.rfind("local", 0) == 0 ? "local" : "name", rule);
-    const long long me = r.integer("maxeval", a.maxeval);
-    if (me < 0 || me > 100000000) r.fail("maxeval", "value " + std::to_string(me) + " must be in [0, 1e8] (0: no limit)");
-    a.maxeval = static_cast<int>(me);
-    a.maxtime = r.nonNegative("maxtime", a.maxtime);
-    a.xtolRel = r.nonNegative("xtol_rel", a.xtolRel);
-    a.ftolRel = r.nonNegative("ftol_rel", a.ftolRel);
-    const long long seed = r.integer("seed", a.seed);
-    if (seed < 0 || seed > 4294967295LL) r.fail("seed", "value " + std::to_string(seed) + " must be in [0, 2^32)");
-    a.seed = static_cast<unsigned>(seed);
-    a.penalty = r.positive("penalty", a.penalty);
-    a.initialStep = r.nonNegative("initial_step", a.initialStep);
-    if (a.initialStep > 1) r.fail("initial_step", "value " + fmt(a.initialStep) + " must be <= 1 (scaled units)");
-    if (a.maxeval == 0 && a.maxtime == 0 && a.xtolRel == 0 && a.ftolRel == 0)
-      r.fail("maxeval", "give at least one stopping rule (maxeval, maxtime, xtol_rel or ftol_rel)");
-  }
+  parseCases(doc, file, s);
+  parseObjective(doc, file, s);
+  parseConstraints(doc, file, s);
+  parseAlgorithm(doc, file, s);
   return s;
 }
 

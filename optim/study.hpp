@@ -1,27 +1,40 @@
-// Design studies of a gear scene (README.md, "Design studies"): a study file (TOML, ".cfg" or
-// ".toml") names a scene, the design variables (scene parameters by path), the drop cases, the
-// objective, the constraints and the NLopt algorithm. `optimize` runs it.
+// Design studies of a gear scene (README.md, "Study files"): a study file (TOML, ".cfg" or ".toml")
+// names a scene, the design variables (scene parameters by path), the drop cases with their roles,
+// the objective, the constraints, the certification matrix and the NLopt algorithm. `optimize` runs it.
 //
 //   scene = "../data/seed_gear.toml"          # relative to the study file
 //   [solver]      integrator = "ros34pw2", rtol = 1e-4, atol, step   # into the scene's [solver]
 //   [[variable]]  path = "strut.f1", lower = 4e-5, upper = 1.2e-4, initial = 7e-5, log = true
-//   [[case]]      name = "limit"              # a case of the scene ...
-//   [[case]]      name = "hard", sink_speed = 3.3, lift_ratio = 1.0, duration = 0.8, weight = 2
-//                 [case.masses] airframe = 4200.0   # ... or a new one
-//   [objective]   kind = "min_peak_load" | "max_efficiency", aggregate = "max" | "weighted_sum"
-//   [constraints] stroke_max = 0.15, stroke_margin = 0.0, tyre_deflection_max = "delta_max" | 0.09,
-//                 static_stroke = [0.02, 0.08], no_bottoming = true, rebound_max = 0.05
+//   [[case]]      name = "limit", role = "objective"      # a case of the scene or of the matrix ...
+//   [[case]]      name = "hard", role = "constraint", sink_speed = 3.3, lift_ratio = 1.0, duration = 0.8,
+//                 weight = 2, [case.masses] airframe = 4200.0   # ... or a new one
+//   [objective]   kind = "min_peak_load" | "max_efficiency", aggregate = "worst" | "weighted_sum"
+//   [[constraint]] metric = "stroke_margin", min = 0.01, max = ..., cases = ["reserve"] | "steering" | ...
+//   [certification] role = "constraint" | "check", and any key of the scene's [certification] to override
 //   [algorithm]   name = "LN_COBYLA", local = "LN_BOBYQA", maxeval = 200, maxtime = 0, xtol_rel = 1e-4,
 //                 ftol_rel = 0, seed = 1, penalty = 100, initial_step = 0
 //
-// The parser validates at the edge: every error is an lg::InputError naming the study file, the
-// line, the key (e.g. "variable[1].upper", zero-based like the scene's) and the rule.
+// Roles. An objective case enters the objective (and the constraints that name it); a constraint case
+// enters only the constraints; a check case is simulated and reported for the baseline and the best
+// design, never steers. Every case of the scene and of its certification matrix that the study does not
+// name joins as a check, so a study's result is always shown on all of them.
+//
+// Constraints. Each [[constraint]] bounds a per-case metric (sim/metrics.hpp) on each case it names,
+// one smooth NLopt inequality per case (no max over cases, no 0/1 step): g = value - max <= 0 or
+// g = min - value <= 0. "static_stroke" is a metric of the design (the strut settled under 1 g), not of
+// a case. The certification matrix (role "constraint") adds its limits on its cases: load factor within
+// the design limit (ultimate for the reserve case), stroke margin to every bottoming stop, tyre limit.
+//
+// The parser validates at the edge: every error is an lg::InputError naming the study file, the line,
+// the key (e.g. "variable[1].upper", zero-based like the scene's) and the rule.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "sim/certification.hpp"
 #include "sim/drop_test.hpp"
 
 namespace lg::optim {
@@ -43,33 +56,51 @@ double toScaled(const Variable& v, double x);
 std::vector<double> toPhysical(const std::vector<Variable>& vars, const std::vector<double>& u);
 std::vector<double> toScaled(const std::vector<Variable>& vars, const std::vector<double>& x);
 
+enum class CaseRole { Objective, Constraint, Check };
+const char* roleName(CaseRole r);
+// Where a case comes from: the scene's [[case]] (re-read from each design's scene), the study's own
+// [[case]] with its numbers, or the certification matrix (its W made up for each design).
+enum class CaseOrigin { Scene, Study, Certification };
+const char* originName(CaseOrigin o);
+
 struct StudyCase {
-  DropCase dropCase;        // resolved case (a scene case is re-read from each design's scene)
-  bool fromScene = false;   // true: name refers to a case of the scene, no overrides
+  DropCase dropCase;        // resolved case
+  CaseRole role = CaseRole::Objective;
+  CaseOrigin origin = CaseOrigin::Study;
   double weight = 1;        // [-] weight in aggregate = "weighted_sum"
-  int line = 0;
+  int line = 0;             // its [[case]] table (0: added by the study itself)
+  bool steers() const { return role != CaseRole::Check; }
 };
 
 enum class ObjectiveKind { MinPeakLoad, MaxEfficiency };
-enum class Aggregate { Max, WeightedSum };
+enum class Aggregate { Worst, WeightedSum };
 
-// Per-case figure f_i: peak load P_y,max [N] (minimised) or efficiency eta [-] (maximised).
-// aggregate "max" takes the worst case (max_i P_i, resp. min_i eta_i); "weighted_sum" sum_i w_i f_i.
+// Per objective case figure f_i: peak load P_y,max [N] (minimised) or efficiency eta [-] (maximised).
+// aggregate "worst" takes the worst objective case (max_i P_i, resp. min_i eta_i); "weighted_sum"
+// sum_i w_i f_i.
 struct Objective {
   ObjectiveKind kind = ObjectiveKind::MinPeakLoad;
-  Aggregate aggregate = Aggregate::Max;
+  Aggregate aggregate = Aggregate::Worst;
 };
 
-// Constraints g <= 0, evaluated on the worst case (maximum over the cases).
-struct Constraints {
-  std::optional<double> strokeMax;          // [m] max stroke <= strokeMax - strokeMargin
-  double strokeMargin = 0;                  // [m]
-  bool tyreDeflectionFromScene = false;     // tyre_deflection_max = "delta_max": the tyre's delta_max
-  std::optional<double> tyreDeflectionMax;  // [m] a number
-  std::optional<double> staticStrokeLower;  // [m] lg::staticStroke >= lower
-  std::optional<double> staticStrokeUpper;  // [m] lg::staticStroke <= upper
-  bool noBottoming = false;                 // no case may touch the bottoming stop (0/1 constraint)
-  std::optional<double> reboundMax;         // [m] rebound height above touchdown, -min h, <= reboundMax
+// A bound on a metric: value <= bound (upper) or value >= bound, on each of 'cases' (indices into
+// Study::cases), or on the design for "static_stroke" (cases empty).
+struct ConstraintSpec {
+  std::string metric;        // a name of lg::metricCatalogue(), or "static_stroke"
+  bool upper = true;
+  double bound = 0;          // [metric's unit]
+  double scale = 1;          // [metric's unit] g is divided by it for NLopt
+  std::vector<int> cases;
+  std::string source;        // "study" or "certification"
+  std::string rule;          // for people: "stroke margin to the bottoming stop"
+  int line = 0;
+};
+
+// One scalar constraint g_j <= 0 as NLopt sees it: a spec on one case.
+struct ConstraintItem {
+  int spec = 0;              // index into Study::constraints
+  int caseIndex = -1;        // index into Study::cases, -1 for a design metric
+  std::string name;          // "stroke_margin@cert-reserve", "static_stroke"
 };
 
 struct AlgorithmSettings {
@@ -89,12 +120,18 @@ struct Study {
   std::string name;       // "name" key, default: file stem
   std::string sceneFile;  // resolved path of the scene
   std::string sceneDir;   // its directory (relative tables)
-  Scene scene;            // baseline scene
+  Scene scene;            // baseline scene (the study's [solver] and [certification] written into its doc)
   std::vector<Variable> variables;
-  std::vector<StudyCase> cases;
+  std::vector<StudyCase> cases;        // steering cases first (study order), then the checks
   Objective objective;
-  Constraints constraints;
+  std::vector<ConstraintSpec> constraints;
+  std::vector<ConstraintItem> items;   // the g_j, in order
+  std::shared_ptr<const Certification> certification;  // the matrix (scene's, with the study's overrides)
+  CaseRole certificationRole = CaseRole::Check;         // of the matrix cases the study does not name
+  bool staticStrokeNeeded = false;
   AlgorithmSettings algorithm;
+
+  int steeringCases() const;  // objective and constraint cases: cases[0 .. steeringCases())
 };
 
 // Parses and validates a study; throws lg::InputError (file, line, key, rule).

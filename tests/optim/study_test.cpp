@@ -44,9 +44,9 @@ std::string study(const std::string& variable, const std::string& extra = "") {
          "lift_ratio = 1.0\n"                    // 7
          "[objective]\n"                         // 8
          "kind = \"min_peak_load\"\n"            // 9
-         "[constraints]\n"                       // 10
-         "stroke_max = 0.15\n"                   // 11
-         "tyre_deflection_max = \"delta_max\"\n" // 12
+         "[[constraint]]\n"                      // 10
+         "metric = \"stroke_margin\"\n"          // 11
+         "min = 0.01\n"                          // 12
          "[[variable]]\n"                        // 13
          + variable + extra;                     // 14...
 }
@@ -78,17 +78,132 @@ TEST_CASE("study: a valid file parses with defaults from the scene", "[optim][st
   CHECK(s.variables[0].initial == 7.0e-5);  // the scene's value
   CHECK(s.variables[0].log);
   CHECK(s.variables[1].initial == 9e5);
-  REQUIRE(s.cases.size() == 2);
-  CHECK(s.cases[0].fromScene);
+  // the study's two cases (objective, the default role), then the matrix's and the scene's others as checks
+  REQUIRE(s.cases.size() == 2 + 3 + 4);
+  CHECK(s.steeringCases() == 2);
+  CHECK(s.cases[0].dropCase.name == "limit");
+  CHECK(s.cases[0].origin == CaseOrigin::Scene);
+  CHECK(s.cases[0].role == CaseRole::Objective);
   CHECK(s.cases[0].dropCase.sinkSpeed == 3.05);
-  CHECK_FALSE(s.cases[1].fromScene);
+  CHECK(s.cases[1].origin == CaseOrigin::Study);
   CHECK(s.cases[1].dropCase.sinkSpeed == 3.3);
   CHECK(s.cases[1].dropCase.duration == 0.8);
-  CHECK(s.constraints.tyreDeflectionFromScene);
+  const std::vector<std::string> checks{"cert-limit-landing", "cert-limit-takeoff", "cert-reserve", "light", "medium",
+                                        "reserve", "free-drop"};
+  for (size_t i = 0; i < checks.size(); ++i) {
+    CHECK(s.cases[2 + i].dropCase.name == checks[i]);
+    CHECK(s.cases[2 + i].role == CaseRole::Check);
+  }
+  CHECK(s.certificationRole == CaseRole::Check);  // no [certification] in the study: the matrix is reported
+  // one constraint on each steering case
+  REQUIRE(s.constraints.size() == 1);
+  CHECK(s.constraints[0].metric == "stroke_margin");
+  CHECK_FALSE(s.constraints[0].upper);
+  CHECK(s.constraints[0].bound == 0.01);
+  REQUIRE(s.items.size() == 2);
+  CHECK(s.items[0].name == "stroke_margin_min@limit");
+  CHECK(s.items[1].name == "stroke_margin_min@hard");
   CHECK(s.algorithm.name == "LN_BOBYQA");
   CHECK(s.algorithm.maxeval == 10);
   CHECK(s.algorithm.seed == 3u);
   CHECK_FALSE(nativeConstraints(s.algorithm.name));
+}
+
+// The shipped main study: the matrix's limit cases are the objective, its reserve case and limits
+// constrain the design, the scene's own cases are checks.
+TEST_CASE("study: the main study is constrained by the certification matrix", "[optim][study]") {
+  const Study s = loadStudy(std::string(LG_SOURCE_DIR) + "/studies/seed_gear_min_peak.cfg");
+  REQUIRE(s.certification);
+  CHECK(s.certification->basisName == "part25");
+  CHECK(s.certificationRole == CaseRole::Constraint);
+  const std::vector<std::pair<std::string, CaseRole>> expected{
+      {"cert-limit-landing", CaseRole::Objective}, {"cert-limit-takeoff", CaseRole::Objective},
+      {"cert-reserve", CaseRole::Constraint},      {"light", CaseRole::Check},
+      {"medium", CaseRole::Check},                 {"limit", CaseRole::Check},
+      {"reserve", CaseRole::Check},                {"free-drop", CaseRole::Check}};
+  REQUIRE(s.cases.size() == expected.size());
+  for (size_t i = 0; i < expected.size(); ++i) {
+    INFO(expected[i].first);
+    CHECK(s.cases[i].dropCase.name == expected[i].first);
+    CHECK(s.cases[i].role == expected[i].second);
+  }
+  // W made up through the airframe: 4250 kg on the unit at the takeoff weight (gear bodies 70 kg)
+  CHECK(s.cases[1].dropCase.masses.at("airframe") == 4250.0 - 70.0);
+  CHECK(s.cases[1].dropCase.sinkSpeed == 1.83);
+  // the rules' limits on every matrix case: load factor (ultimate in the reserve case), stroke margin, tyre
+  const std::vector<std::string> names{"load_factor_max@cert-limit-landing", "stroke_margin_min@cert-limit-landing",
+                                       "tyre_margin_min@cert-limit-landing", "load_factor_max@cert-limit-takeoff",
+                                       "stroke_margin_min@cert-limit-takeoff", "tyre_margin_min@cert-limit-takeoff",
+                                       "load_factor_max@cert-reserve", "stroke_margin_min@cert-reserve",
+                                       "tyre_margin_min@cert-reserve"};
+  REQUIRE(s.items.size() == names.size());
+  for (size_t i = 0; i < names.size(); ++i) CHECK(s.items[i].name == names[i]);
+  CHECK(s.constraints[s.items[0].spec].bound == 2.5);
+  CHECK(s.constraints[s.items[1].spec].bound == 0.01);
+  CHECK(s.constraints[s.items[2].spec].bound == 0.0);
+  CHECK(s.constraints[s.items[6].spec].bound == Approx(3.75).epsilon(1e-15));
+  // best.toml keeps the matrix
+  CHECK(designDocument(s, s.variables.empty() ? std::vector<double>{} : std::vector<double>(
+                                                    {7e-5, 5e-5, 3e6, 1.3e-3, 8e5}))["certification"]["basis"]
+            .value_or(std::string()) == "part25");
+}
+
+// Each role and each constraint kind on synthetic metrics (an analytic problem: the answer is known).
+TEST_CASE("study: roles and constraint kinds reduce as documented", "[optim][study]") {
+  const std::string v = "path = \"strut.f1\"\nlower = 3e-5\nupper = 1.6e-4\n";
+  const std::string extra =
+      "[[case]]\nname = \"soft\"\nrole = \"constraint\"\nsink_speed = 1.0\nlift_ratio = 1.0\n"
+      "[[case]]\nname = \"medium\"\nrole = \"check\"\n"
+      "[[constraint]]\nmetric = \"load_factor\"\nmax = 2.0\ncases = \"objective\"\n"
+      "[[constraint]]\nmetric = \"efficiency\"\nmin = 0.7\nmax = 0.9\ncases = [\"soft\"]\n"
+      "[[constraint]]\nmetric = \"tyre_deflection\"\nmax = 0.09\ncases = \"constraint\"\n";
+  Study s = loadStudy(write("roles.cfg", study(v, extra)));
+  REQUIRE(s.steeringCases() == 3);  // limit, hard (objective), soft (constraint); medium is a check
+  CHECK(s.cases[2].dropCase.name == "soft");
+  CHECK(s.cases[3].dropCase.name == "medium");
+  CHECK(s.cases[3].role == CaseRole::Check);
+  const std::vector<std::string> names{"stroke_margin_min@limit", "stroke_margin_min@hard", "stroke_margin_min@soft",
+                                       "load_factor_max@limit",   "load_factor_max@hard",   "efficiency_max@soft",
+                                       "efficiency_min@soft",     "tyre_deflection_max@soft"};
+  REQUIRE(s.items.size() == names.size());
+  for (size_t i = 0; i < names.size(); ++i) CHECK(s.items[i].name == names[i]);
+  auto metrics = [](const std::string& n, double peak, double eta, double ng, double margin, double tyre) {
+    lg::CaseMetrics m;
+    m.name = n;
+    m.peak_load_N = peak;
+    m.efficiency = eta;
+    m.load_factor = ng;
+    m.stroke_margin_m = margin;
+    m.tyre_deflection_max_m = tyre;
+    return m;
+  };
+  // a check case that fails its simulation changes nothing; the constraint case never enters the objective
+  std::vector<lg::CaseMetrics> cases{metrics("limit", 80e3, 0.70, 2.1, 0.020, 0.08),
+                                     metrics("hard", 90e3, 0.65, 1.9, 0.005, 0.09),
+                                     metrics("soft", 200e3, 0.95, 5.0, 0.050, 0.10)};
+  lg::CaseMetrics broken = metrics("medium", NAN, NAN, NAN, NAN, NAN);
+  broken.ok = false;
+  cases.push_back(broken);
+  Evaluation e = reduceMetrics(s, cases, NAN);
+  REQUIRE(e.ok);
+  CHECK(e.objective == 90e3);  // worst objective case: max peak of limit and hard, not soft's 200 kN
+  const std::vector<double> g{0.01 - 0.020, 0.01 - 0.005, 0.01 - 0.050, 2.1 - 2.0, 1.9 - 2.0, 0.95 - 0.9, 0.7 - 0.95,
+                              0.10 - 0.09};
+  REQUIRE(e.constraints.size() == g.size());
+  for (size_t i = 0; i < g.size(); ++i) CHECK(e.constraints[i] == Approx(g[i]).margin(1e-15));
+  CHECK_FALSE(isFeasible(e));
+  // weighted sum over the objective cases, and the efficiency objective's worst = the smallest
+  s.objective.aggregate = Aggregate::WeightedSum;
+  CHECK(reduceMetrics(s, cases, NAN).objective == 80e3 + 90e3);
+  s.objective.kind = ObjectiveKind::MaxEfficiency;
+  s.objective.aggregate = Aggregate::Worst;
+  CHECK(reduceMetrics(s, cases, NAN).objective == 0.65);
+  // a steering case that fails makes the evaluation fail, with its reason
+  cases[2].ok = false;
+  cases[2].message = "contact solve failed";
+  e = reduceMetrics(s, cases, NAN);
+  CHECK_FALSE(e.ok);
+  CHECK(e.message == "case 'soft': contact solve failed");
 }
 
 TEST_CASE("study: bad files name file, line and key", "[optim][study]") {
@@ -120,7 +235,7 @@ TEST_CASE("study: bad files name file, line and key", "[optim][study]") {
   }
   SECTION("unknown key") {
     expectError("key.cfg", study(v + "lowr = 1\n"), 17, "variable[0].lowr", "unknown key");
-    expectError("key2.cfg", study(v, "[constraints2]\n"), 17, "constraints2", "unknown key");
+    expectError("key2.cfg", study(v, "[constraint2]\n"), 17, "constraint2", "unknown key");
   }
   SECTION("wrong type") {
     expectError("type.cfg", study("path = \"strut.f1\"\nlower = \"small\"\nupper = 1.6e-4\n"), 15, "variable[0].lower",
@@ -132,13 +247,45 @@ TEST_CASE("study: bad files name file, line and key", "[optim][study]") {
     t.replace(t.find("min_peak_load"), 13, "min_weight");
     expectError("obj.cfg", t, 9, "objective.kind", "min_weight");
     std::string u = study(v);
-    u.replace(u.find("\"delta_max\""), 11, "\"dmax\"");
-    expectError("tyre.cfg", u, 12, "constraints.tyre_deflection_max", "dmax");
+    u.replace(u.find("\"stroke_margin\""), 15, "\"stroke_margn\"");
+    expectError("metric.cfg", u, 11, "constraint[0].metric", "stroke_margn");
+    std::string w = study(v);
+    w.insert(w.find("[[constraint]]"), "aggregate = \"max\"\n");
+    expectError("agg2.cfg", w, 10, "objective.aggregate", "\"worst\"");
+    expectError("bound.cfg", study(v, "[[constraint]]\nmetric = \"efficiency\"\n"), 18, "constraint[1].metric",
+                "give a bound");
+    expectError("minmax.cfg", study(v, "[[constraint]]\nmetric = \"efficiency\"\nmin = 0.9\nmax = 0.8\n"), 20,
+                "constraint[1].max", "greater than min");
+    expectError("check.cfg",
+                study(v, "[[constraint]]\nmetric = \"peak_load\"\nmax = 9e4\ncases = [\"free-drop\"]\n"), 20,
+                "constraint[1].cases", "check case");
+    expectError("sel.cfg", study(v, "[[constraint]]\nmetric = \"peak_load\"\nmax = 9e4\ncases = \"constraint\"\n"), 20,
+                "constraint[1].cases", "selects no case");
+    expectError("static.cfg", study(v, "[[constraint]]\nmetric = \"static_stroke\"\nmax = 0.1\ncases = \"objective\"\n"),
+                20, "constraint[1].cases", "figure of the design");
+    std::string old = study(v);
+    old.replace(old.find("[[constraint]]"), 14, "[constraints]");
+    expectError("old.cfg", old, 10, "constraints", "[[constraint]]");
+  }
+  SECTION("bad roles and matrix cases") {
+    expectError("role.cfg", study(v, "[[case]]\nname = \"medium\"\nrole = \"steer\"\n"), 19, "case[2].role",
+                "\"objective\", \"constraint\" or \"check\"");
+    expectError("noobj.cfg",
+                "scene = \"" + kScene + "\"\n[[case]]\nname = \"limit\"\nrole = \"check\"\n[[variable]]\n" + v, 0,
+                "case", "no objective case");
+    expectError("certover.cfg", study(v, "[[case]]\nname = \"cert-reserve\"\nsink_speed = 4.0\n"), 19,
+                "case[2].sink_speed", "certification matrix");
+    expectError("certrole.cfg", study(v, "[certification]\nrole = \"objective\"\n"), 18, "certification.role",
+                "cannot be the objective");
+    expectError("certkey.cfg", study(v, "[certification]\nlimit_load_factor = -1\n"), 18,
+                "certification.limit_load_factor", "> 0");
+    expectError("sink.cfg", study(v, "[[case]]\nname = \"zero\"\nsink_speed = 0.0\nlift_ratio = 1\n"), 19,
+                "case[2].sink_speed", "must be > 0");
   }
   SECTION("unknown scene case") {
     std::string t = study(v);
     t.replace(t.find("\"limit\""), 7, "\"limmit\"");
-    expectError("case.cfg", t, 3, "case[0].name", "not a case of the scene");
+    expectError("case.cfg", t, 3, "case[0].name", "not a case of the scene or of its certification matrix");
   }
   SECTION("TOML syntax") { expectError("syntax.cfg", study(v + "upper = = 3\n"), 17, "", "TOML syntax"); }
   SECTION("bad solver settings") {

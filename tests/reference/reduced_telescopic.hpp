@@ -28,7 +28,7 @@ struct TelescopicParams {
   double D = 0.08;           // [m] rod diameter
   double D2 = 0.10;          // [m] bore of chamber 3
   double p01 = 2.0e6;        // [Pa] initial gas pressure
-  double Omega0 = 1.0e-3;    // [m^3] initial gas volume
+  double Omega0 = 1.5e-3;    // [m^3] initial gas volume (> F Smax = 1.26e-3 m^3)
   double n = 1.3;            // [-] polytropic exponent
   double rho = 850;          // [kg/m^3] fluid density
   double f1 = 5e-5;          // [m^2] main orifice area

@@ -24,10 +24,14 @@ std::string difference(const lg::CaseResult& a, const lg::CaseResult& b) {
       {"efficiency", {x.efficiency, y.efficiency}},
       {"strut_efficiency", {x.strut_efficiency, y.strut_efficiency}},
       {"energy_absorbed_J", {x.energy_absorbed_J, y.energy_absorbed_J}},
+      {"energy_dissipated_J", {x.energy_dissipated_J, y.energy_dissipated_J}},
+      {"energy_to_absorb_J", {x.energy_to_absorb_J, y.energy_to_absorb_J}},
+      {"stroke_margin_m", {x.stroke_margin_m, y.stroke_margin_m}},
+      {"tyre_margin_m", {x.tyre_margin_m, y.tyre_margin_m}},
       {"energy_balance_error", {x.energy_balance_error, y.energy_balance_error}},
       {"constraint_violation_max", {x.constraint_violation_max, y.constraint_violation_max}},
       {"strut_force_max_N", {x.strut_force_max_N, y.strut_force_max_N}},
-      {"rebound_h_min_m", {x.rebound_h_min_m, y.rebound_h_min_m}}};
+      {"rebound_velocity_mps", {x.rebound_velocity_mps, y.rebound_velocity_mps}}};
   for (const auto& [name, v] : figures)
     if (!same(v.first, v.second)) return std::string("metric ") + name;
   if (x.name != y.name || x.ok != y.ok || x.message != y.message || x.bottomed != y.bottomed || x.steps != y.steps ||

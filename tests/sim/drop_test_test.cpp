@@ -53,7 +53,7 @@ void compareWithReference(const std::string& label, const lg::CaseMetrics& m, co
   const RefEfficiency re = refEfficiency(r);
   const double dP = relDiff(m.peak_load_N, r.peakLoad), dT = relDiff(m.t_peak_s, r.tPeak),
                dS = relDiff(m.stroke_max_m, r.strokeMax), dH = relDiff(m.h_max_m, r.hMax),
-               dD = relDiff(m.tyre_deflection_max_m, r.deltaMax), dE = relDiff(m.energy_absorbed_J, r.energyDissipated),
+               dD = relDiff(m.tyre_deflection_max_m, r.deltaMax), dE = relDiff(m.energy_dissipated_J, r.energyDissipated),
                dEta = relDiff(m.efficiency, re.eta), dEtaS = relDiff(m.strut_efficiency, re.etaS);
   std::printf("%-28s peak %.2e  t_peak %.2e  s_max %.2e  h_max %.2e  delta %.2e  E_abs %.2e  eta %.2e  eta_s %.2e"
               "  P_a,max %.2e | E_bal %.2e  viol %.1e  steps %ld\n",

@@ -40,14 +40,23 @@ TEST_CASE("simulate writes a CSV per case and summary.json", "[cli]") {
     CHECK(summary.find("\"" + c.name + "\": {") != std::string::npos);
   }
   for (const char* key : {"peak_load_N", "t_peak_s", "load_factor", "stroke_max_m", "h_max_m", "tyre_deflection_max_m",
-                          "efficiency", "strut_efficiency", "energy_absorbed_J", "constraint_violation_max", "steps",
+                          "efficiency", "strut_efficiency", "energy_absorbed_J", "energy_dissipated_J",
+                          "energy_to_absorb_J", "stroke_margin_m", "tyre_margin_m", "rebound_velocity_mps",
+                          "inertia_load_factor", "sink_speed_mps", "mass_kg", "constraint_violation_max", "steps",
                           "wall_time_s"}) {
     INFO(key);
     // once per case, each with a number
-    const std::regex re("\"" + std::string(key) + "\": -?[0-9]");
+    const std::regex re("\n +\"" + std::string(key) + "\": -?[0-9]");
     CHECK(std::distance(std::sregex_iterator(summary.begin(), summary.end(), re), std::sregex_iterator()) ==
           static_cast<long>(sc.cases.size()));
   }
+  // Limits: the seed gear's free drop (no lift) takes its tyre past delta_max = 0.10 m; the others stay within.
+  const std::regex within("\"limits\": \\{\"within\": (true|false)");
+  std::vector<std::string> flags;
+  for (auto it = std::sregex_iterator(summary.begin(), summary.end(), within); it != std::sregex_iterator(); ++it)
+    flags.push_back((*it)[1]);
+  CHECK(flags == std::vector<std::string>{"true", "true", "true", "true", "false"});
+  CHECK(summary.find("\"violations\": \"tyre 'tyre' 0.1096 m > delta_max 0.1 m\"") != std::string::npos);
   // The summary holds what runCase computes (17 significant digits).
   const auto limit = lg::runCase(sc, lgtest::findCase(sc, "limit")).metrics;
   CHECK(summary.find("\"peak_load_N\": " + lg::jsonNumber(limit.peak_load_N)) != std::string::npos);
@@ -159,4 +168,16 @@ TEST_CASE("simulate: --integrator and --rtol override the scene's solver", "[cli
     CHECK(lgtest::readFile(dir / "err.txt").find(bad.second) != std::string::npos);
     CHECK(!std::filesystem::exists(out));
   }
+}
+
+TEST_CASE("simulate: the terminal table marks a case beyond its limits", "[cli][limits]") {
+  lgtest::TempDir dir("cli_limits");
+  const std::string log = dir / "table.txt";
+  const std::string cmd = "'" + lgtest::binPath("simulate") + "' " + q(lgtest::sourcePath("data/seed_gear.toml")) +
+                          " --case limit --case free-drop --threads 1 --out " + q(dir / "out") + " > " + q(log) + " 2>&1";
+  REQUIRE(std::system(cmd.c_str()) == 0);  // beyond a limit is a result, not a failed run
+  const std::string text = lgtest::readFile(log);
+  INFO(text);
+  CHECK(std::regex_search(text, std::regex("\nlimit .* ok\n")));
+  CHECK(std::regex_search(text, std::regex("\nfree-drop .* EXCEEDED: tyre 'tyre' 0.1096 m > delta_max 0.1 m\n")));
 }
