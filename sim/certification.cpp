@@ -76,6 +76,8 @@ Certification parseCertification(const toml::table& t, const std::string& file, 
       throw InputError("command line", 0, "--basis", "value '" + basisOverride + "' must be one of " + certBasisNames());
     r.fail("basis", "value '" + c.basisName + "' must be one of " + certBasisNames());
   }
+  if (c.part23() && !r.has("wing_loading"))
+    r.fail("wing_loading", "basis '" + c.basisName + "' needs the wing loading W/S [kg/m^2] for its sink speed");
   // The body that makes W up, and the mass of the rest of the gear.
   c.massBody = r.string("mass_body", scene.roles.airframe);
   if (c.massBody.empty()) r.fail("mass_body", "missing: the scene names no airframe, so give the body whose mass makes up W");
@@ -154,8 +156,6 @@ Certification parseCertification(const toml::table& t, const std::string& file, 
   }
   if (r.has("case")) r.fail("case", "matrix cases are generated from the basis; [[certification.case]] needs basis = \"custom\"");
   if (p23) {
-    if (!r.has("wing_loading"))
-      r.fail("wing_loading", "basis '" + c.basisName + "' needs the wing loading W/S [kg/m^2] for its sink speed");
     c.wingLoading = r.positive("wing_loading");
     const double V = part23SinkSpeed(c.wingLoading);
     const std::string ws = num(c.wingLoading * kKgM2ToLbFt2, 4) + " lb/ft^2";
@@ -235,8 +235,9 @@ CaseVerdict assessCase(const std::string& role, const CertCase& cc, const CaseMe
     lr.pass = m.ok && (l.upper ? lr.value <= l.bound : lr.value >= l.bound);
     if (m.ok && !lr.pass) {
       const MetricInfo* info = findMetric(l.metric);
-      v.reasons.push_back(l.metric + " " + num(lr.value, 5) + (l.upper ? " > " : " < ") + num(l.bound, 5) + " " +
-                          (info ? info->unit : "") + " (" + l.rule + ")");
+      const std::string unit = info && std::string(info->unit) != "-" ? std::string(" ") + info->unit : "";
+      v.reasons.push_back(l.metric + " " + num(lr.value, 5) + (l.upper ? " > " : " < ") + num(l.bound, 5) + unit + " (" +
+                          l.rule + ")");
     }
     v.limits.push_back(lr);
   }

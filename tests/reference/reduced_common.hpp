@@ -51,6 +51,7 @@ struct ReducedSample {
   double h;      // [m] airframe displacement y5(0) - y5(t)
   double delta;  // [m] tyre deflection
   double Pa;     // [N] strut axial force, positive in compression
+  double hdot;   // [m/s] rate of h (airframe moving down)
 };
 
 struct ReducedResult {
@@ -412,7 +413,7 @@ class ReducedSolver {
  private:
   void record(ReducedResult& res, double t, const State& x, Mode mode) const {
     const Eval e = eval(mode, x);
-    res.samples.push_back({t, e.K.y5, e.K.theta, e.Pt, e.K.s, e.K.hdisp, e.K.delta, e.strut.Pa});
+    res.samples.push_back({t, e.K.y5, e.K.theta, e.Pt, e.K.s, e.K.hdisp, e.K.delta, e.strut.Pa, -x(2)});
   }
 
   const Model& m_;

@@ -1,6 +1,6 @@
 // Validation of the drop-test simulator (sim/drop_test.cpp) against the independent reduced-coordinate
 // reference models (tests/reference, Lagrange equations of the second kind), energy balance, hard
-// cases and the friction regularisation. Every tolerance here is the issue's; the achieved
+// cases and the friction regularisation. Tolerances sit near what is achieved; the achieved
 // differences are printed (run sim_tests "[validation]" -s to see them).
 #include "scene_support.hpp"  // sim headers, then Catch (see there)
 #include <cstdio>
@@ -26,6 +26,8 @@ const lg::Scene& teleScene() {
 // integrals from touchdown to the time the maximum (of h, of s) is reached.
 struct RefEfficiency {
   double eta = 0, etaS = 0, strutForceMax = 0;
+  double workPy = 0;      // [J] integral(P_y dh) up to h_max: the energy the gear absorbed
+  double reboundV = 0;    // [m/s] largest -h' after h_max (at the accepted steps)
 };
 RefEfficiency refEfficiency(const ref::ReducedResult& r) {
   RefEfficiency e;
@@ -42,37 +44,48 @@ RefEfficiency refEfficiency(const ref::ReducedResult& r) {
     if (i <= iH) wPy += 0.5 * (a.Py + b.Py) * (b.h - a.h);
     if (i <= iS) wPa += 0.5 * (a.Pa + b.Pa) * (b.s - a.s);
   }
+  for (size_t i = iH; i < r.samples.size(); ++i) e.reboundV = std::max(e.reboundV, -r.samples[i].hdot);
+  e.workPy = wPy;
   e.eta = wPy / (r.peakLoad * r.hMax);
   e.etaS = wPa / (e.strutForceMax * r.strokeMax);
   return e;
 }
 
-// The issue's acceptance: peak P_y, its time, max stroke and max h within 0.5 %. Also compared (same
-// tolerance): max tyre deflection, absorbed energy and the two efficiencies. Prints the differences.
-void compareWithReference(const std::string& label, const lg::CaseMetrics& m, const ref::ReducedResult& r) {
+// Peak P_y, its time, max stroke, max h and max tyre deflection; the dissipated energy, the gear's work
+// over the compression (energy_absorbed_J), the two efficiencies and the rebound velocity. Prints the
+// differences.
+// 'peakTol' bounds the located extrema, 'integralTol' the integrals, efficiencies and rebound velocity.
+void compareWithReference(const std::string& label, const lg::CaseMetrics& m, const ref::ReducedResult& r,
+                          double peakTol = 1e-6, double integralTol = 2e-5) {
   const RefEfficiency re = refEfficiency(r);
   const double dP = relDiff(m.peak_load_N, r.peakLoad), dT = relDiff(m.t_peak_s, r.tPeak),
                dS = relDiff(m.stroke_max_m, r.strokeMax), dH = relDiff(m.h_max_m, r.hMax),
                dD = relDiff(m.tyre_deflection_max_m, r.deltaMax), dE = relDiff(m.energy_dissipated_J, r.energyDissipated),
-               dEta = relDiff(m.efficiency, re.eta), dEtaS = relDiff(m.strut_efficiency, re.etaS);
-  std::printf("%-28s peak %.2e  t_peak %.2e  s_max %.2e  h_max %.2e  delta %.2e  E_abs %.2e  eta %.2e  eta_s %.2e"
-              "  P_a,max %.2e | E_bal %.2e  viol %.1e  steps %ld\n",
-              label.c_str(), dP, dT, dS, dH, dD, dE, dEta, dEtaS, relDiff(m.strut_force_max_N, re.strutForceMax), m.energy_balance_error, m.constraint_violation_max,
-              m.steps);
+               dEta = relDiff(m.efficiency, re.eta), dEtaS = relDiff(m.strut_efficiency, re.etaS),
+               dW = relDiff(m.energy_absorbed_J, re.workPy), dR = relDiff(m.rebound_velocity_mps, re.reboundV);
+  std::printf("%-28s peak %.2e  t_peak %.2e  s_max %.2e  h_max %.2e  delta %.2e  E_diss %.2e  E_abs %.2e  eta %.2e  eta_s %.2e"
+              "  P_a,max %.2e  v_reb %.2e | E_bal %.2e  viol %.1e  steps %ld\n",
+              label.c_str(), dP, dT, dS, dH, dD, dE, dW, dEta, dEtaS, relDiff(m.strut_force_max_N, re.strutForceMax), dR,
+              m.energy_balance_error, m.constraint_violation_max, m.steps);
   INFO(label << ": multibody peak " << m.peak_load_N << " N at " << m.t_peak_s << " s, s_max " << m.stroke_max_m
              << ", h_max " << m.h_max_m << "; reference " << r.peakLoad << " N at " << r.tPeak << " s, s_max "
              << r.strokeMax << ", h_max " << r.hMax);
   REQUIRE(m.ok);
-  CHECK(dP < 5e-3);
-  CHECK(dT < 5e-3);
-  CHECK(dS < 5e-3);
-  CHECK(dH < 5e-3);
-  CHECK(dD < 5e-3);
-  CHECK(dE < 5e-3);
+  // Near what is achieved: with the shipped dopri5 rtol 1e-6 against the reference at 1e-10 the located
+  // extrema agree to 2e-7, the integrals (Simpson on the dense output against the reference's trapezoid
+  // on its steps) and the sampled rebound velocity to 4e-6.
+  CHECK(dP < peakTol);
+  CHECK(dT < peakTol);
+  CHECK(dS < peakTol);
+  CHECK(dH < peakTol);
+  CHECK(dD < peakTol);
+  CHECK(dE < integralTol);
+  CHECK(dW < integralTol);
+  CHECK(dR < integralTol);
   INFO("efficiency " << m.efficiency << " vs " << re.eta << ", strut efficiency " << m.strut_efficiency << " vs "
                      << re.etaS << " (P_a,max " << m.strut_force_max_N << " vs " << re.strutForceMax << ")");
-  CHECK(dEta < 5e-3);
-  CHECK(dEtaS < 5e-3);
+  CHECK(dEta < integralTol);
+  CHECK(dEtaS < integralTol);
 }
 
 ref::SeedGearParams seedParams(const lg::Scene& sc) {
@@ -257,7 +270,7 @@ TEST_CASE("hard case: a tyre 100 times stiffer", "[validation][hard]") {
   const auto m = run(sc, dropCase("limit", 3.05, 1.0)).metrics;
   checkStable("tyre K x100", m);
   const auto r = ref::simulateSeedGear(seedParams(sc), 3.05, 1.0, 0.8);
-  compareWithReference("seed tyre K x100", m, r);
+  compareWithReference("seed tyre K x100", m, r, 5e-6);  // its sharp peak's time: 2.3e-6
 }
 
 TEST_CASE("hard case: a main orifice 10 times smaller", "[validation][hard]") {
@@ -437,6 +450,8 @@ TEST_CASE("ros34pw2: the hard cases stay stable and agree with the reference", "
     const lg::Scene sc = lgtest::build(doc);
     const auto m = run(sc, dropCase("hard", v.V, v.L, v.duration)).metrics;
     checkStable(v.label, m);
-    if (v.duration < 1) compareWithReference(v.label, m, ref::simulateSeedGear(seedParams(sc), v.V, v.L, v.duration));
+    // rtol 1e-5: the extrema agree to 1.3e-5, the integrals to 1e-4
+    if (v.duration < 1)
+      compareWithReference(v.label, m, ref::simulateSeedGear(seedParams(sc), v.V, v.L, v.duration), 5e-5, 3e-4);
   }
 }

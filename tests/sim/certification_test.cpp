@@ -1,0 +1,206 @@
+// The certification matrix (sim/certification.cpp) and `certify` (apps/certify.cpp): the cases each
+// basis generates against hand-computed numbers (certification.md), the limits and verdicts, and the
+// program's outputs and exit statuses.
+#include "scene_support.hpp"  // sim headers, then Catch (see there)
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+
+#include "sim/certification.hpp"
+
+namespace {
+
+// The seed gear with its [certification] table replaced by 'table' (TOML lines).
+lg::Scene withCertification(const std::string& table) {
+  toml::table doc = lgtest::shippedDoc("data/seed_gear.toml");
+  doc.erase("certification");
+  doc.insert("certification", toml::parse(table));
+  return lgtest::build(doc);
+}
+
+int certify(const std::string& args, const std::string& errFile) {
+  const std::string cmd = "'" + lgtest::binPath("certify") + "' " + args + " --quiet >/dev/null 2>'" + errFile + "'";
+  const int st = std::system(cmd.c_str());
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+std::string q(const std::string& s) { return "'" + s + "'"; }
+
+}  // namespace
+
+TEST_CASE("certification: Part 25 and CS-25 generate the limit, takeoff and reserve drops", "[certification]") {
+  const lg::Scene sc = lgtest::build(lgtest::shippedDoc("data/seed_gear.toml"));
+  REQUIRE(sc.certification);
+  const lg::Certification& c = *sc.certification;
+  REQUIRE(c.cases.size() == 3);
+  struct Expected {
+    const char* name;
+    lg::CertKind kind;
+    double V, W;
+  } expected[] = {{"cert-limit-landing", lg::CertKind::Limit, 3.05, 4050},
+                  {"cert-limit-takeoff", lg::CertKind::Limit, 1.83, 4250},
+                  {"cert-reserve", lg::CertKind::Reserve, 3.66, 4050}};
+  for (size_t i = 0; i < 3; ++i) {
+    INFO(expected[i].name);
+    CHECK(c.cases[i].name == expected[i].name);
+    CHECK(c.cases[i].kind == expected[i].kind);
+    CHECK(c.cases[i].sinkSpeed == expected[i].V);
+    CHECK(c.cases[i].liftRatio == 1.0);
+    CHECK(c.cases[i].mass == expected[i].W);
+    CHECK(c.cases[i].duration == 0.8);
+    // W reaches the model through the airframe: the gear's other bodies weigh 70 kg
+    const lg::DropCase d = lg::certDropCase(sc, c, c.cases[i]);
+    CHECK(d.masses.at("airframe") == expected[i].W - 70.0);
+    CHECK(lg::caseMass(sc, d) == expected[i].W);
+  }
+  CHECK(c.limitGroundFactor() == 2.5);
+  CHECK(c.strokeMargin == 0.01);
+  // CS-25 writes 3.7 m/s for the reserve drop; a takeoff mass defaults to the landing mass
+  const lg::Scene cs = withCertification("basis = \"cs25\"\nlanding_mass = 4050.0\nlimit_load_factor = 2.0\n");
+  CHECK(cs.certification->cases[2].sinkSpeed == 3.7);
+  CHECK(cs.certification->cases[1].mass == 4050.0);
+  CHECK(cs.certification->liftRatio == 1.0);
+  CHECK(cs.certification->reserveLiftRatio == 1.0);
+}
+
+TEST_CASE("certification: Part 23 sink speeds from the wing loading, clamped at both ends", "[certification]") {
+  // V = 4.4 (W/S)^(1/4) ft/s, W/S in lb/ft^2 = 0.204816 x kg/m^2, clamped to 7 .. 10 ft/s; reserve 1.2 V
+  struct Row {
+    double ws, V;
+  } rows[] = {{20.0, 7.0 * 0.3048},                   // 4.096 lb/ft^2: 6.26 ft/s, clamped up to 7 ft/s
+              {80.0, 8.852504236999334 * 0.3048},     // 16.385 lb/ft^2
+              {300.0, 10.0 * 0.3048}};                // 61.44 lb/ft^2: 12.3 ft/s, clamped down to 10 ft/s
+  for (const Row& r : rows) {
+    INFO("W/S " << r.ws << " kg/m^2");
+    CHECK(lg::part23SinkSpeed(r.ws) == Approx(r.V).epsilon(1e-14));
+    const lg::Scene sc = withCertification("basis = \"part23\"\nlanding_mass = 4050.0\nwing_loading = " +
+                                           std::to_string(r.ws) + "\nlimit_load_factor = 3.0\n");
+    const lg::Certification& c = *sc.certification;
+    REQUIRE(c.cases.size() == 2);
+    CHECK(c.cases[0].name == "cert-limit");
+    CHECK(c.cases[0].sinkSpeed == Approx(r.V).epsilon(1e-14));
+    CHECK(c.cases[0].liftRatio == Approx(2.0 / 3.0).epsilon(1e-15));  // at most, and by default, 2/3
+    CHECK(c.cases[1].name == "cert-reserve");
+    CHECK(c.cases[1].kind == lg::CertKind::Reserve);
+    CHECK(c.cases[1].sinkSpeed == Approx(1.2 * r.V).epsilon(1e-14));
+    CHECK(c.cases[1].liftRatio == 1.0);
+    CHECK(c.limitGroundFactor() == Approx(3.0 - 2.0 / 3.0).epsilon(1e-15));  // n_g = n - L
+  }
+  // Part 23's floors, n >= 2.67 and n_g >= 2.0, reported for the unit
+  const lg::Scene low = withCertification("basis = \"cs23\"\nlanding_mass = 4050.0\nwing_loading = 80.0\nlimit_load_factor = 2.6\n");
+  const auto items = lg::unitItems(*low.certification);
+  REQUIRE(items.size() == 2);
+  CHECK_FALSE(items[0].pass);  // 2.6 < 2.67
+  CHECK_FALSE(items[1].pass);  // 2.6 - 2/3 = 1.93 < 2.0
+  const lg::Scene ok = withCertification("basis = \"part23\"\nlanding_mass = 4050.0\nwing_loading = 80.0\nlimit_load_factor = 2.7\n");
+  const auto okItems = lg::unitItems(*ok.certification);
+  CHECK(okItems[0].pass);
+  CHECK(okItems[1].pass);
+}
+
+TEST_CASE("certification: a custom matrix takes its cases as written", "[certification]") {
+  const lg::Scene sc = withCertification(
+      "basis = \"custom\"\nlimit_load_factor = 2.2\nstroke_margin = 0.005\ntyre_limit = 0.09\n"
+      "[[case]]\nname = \"rig-1\"\nkind = \"limit\"\nsink_speed = 2.9\nlift_ratio = 0.8\nmass = 4100.0\n"
+      "[[case]]\nname = \"rig-2\"\nkind = \"reserve\"\nsink_speed = 3.5\nlift_ratio = 1.0\nmass = 4000.0\nduration = 1.0\n");
+  const lg::Certification& c = *sc.certification;
+  REQUIRE(c.cases.size() == 2);
+  CHECK(c.cases[0].sinkSpeed == 2.9);
+  CHECK(c.cases[0].liftRatio == 0.8);
+  CHECK(c.cases[0].mass == 4100.0);
+  CHECK(c.cases[1].kind == lg::CertKind::Reserve);
+  CHECK(c.cases[1].duration == 1.0);
+  // the limits: load factor (ultimate 1.5 x 2.2 for the reserve case), stroke margin, tyre limit as a number
+  const auto lim = lg::caseLimits(c, c.cases[1], sc);
+  REQUIRE(lim.size() == 3);
+  CHECK(lim[0].metric == "load_factor");
+  CHECK(lim[0].bound == Approx(3.3).epsilon(1e-15));
+  CHECK(lim[1].metric == "stroke_margin");
+  CHECK(lim[1].bound == 0.005);
+  CHECK(lim[2].metric == "tyre_deflection");
+  CHECK(lim[2].bound == 0.09);
+}
+
+TEST_CASE("certification: verdicts name every limit a case breaks", "[certification]") {
+  const lg::Scene sc = lgtest::build(lgtest::shippedDoc("data/seed_gear.toml"));
+  const lg::Certification& c = *sc.certification;
+  lg::CaseMetrics m;
+  m.name = "cert-limit-landing";
+  m.load_factor = 2.4;
+  m.stroke_margin_m = 0.02;
+  m.tyre_margin_m = 0.01;
+  m.compression_ended = true;
+  const auto limits = lg::caseLimits(c, c.cases[0], sc);
+  CHECK(lg::assessCase("certification", c.cases[0], m, limits).pass);
+  m.load_factor = 2.6;            // above n_g,lim = 2.5
+  m.stroke_margin_m = 0.005;      // inside the 10 mm margin
+  m.compression_ended = false;
+  const lg::CaseVerdict v = lg::assessCase("certification", c.cases[0], m, limits);
+  CHECK_FALSE(v.pass);
+  REQUIRE(v.reasons.size() == 3);
+  CHECK(v.reasons[0] == "load_factor 2.6 > 2.5 (design limit load factor n_g)");
+  CHECK(v.reasons[1] == "stroke_margin 0.005 < 0.01 m (stroke margin to the bottoming stop >= 0.01 m)");
+  CHECK(v.reasons[2].find("the compression did not end within 0.8 s") == 0);
+  // the reserve case is held to ultimate, 1.5 x the limit load
+  m.load_factor = 3.7;
+  m.stroke_margin_m = 0.02;
+  m.compression_ended = true;
+  CHECK(lg::assessCase("certification", c.cases[2], m, lg::caseLimits(c, c.cases[2], sc)).pass);
+  m.load_factor = 3.8;
+  CHECK_FALSE(lg::assessCase("certification", c.cases[2], m, lg::caseLimits(c, c.cases[2], sc)).pass);
+}
+
+TEST_CASE("certify: exit 0 when the matrix passes, 1 when a case fails, 2 on bad input", "[certification][cli]") {
+  lgtest::TempDir dir("certify");
+  const std::string seed = lgtest::readFile(lgtest::sourcePath("data/seed_gear.toml"));
+  SECTION("the seed gear passes; the report shows the matrix and the checks") {
+    const std::string out = dir / "pass";
+    CHECK(certify(q(lgtest::sourcePath("data/seed_gear.toml")) + " --out " + q(out), dir / "err.txt") == 0);
+    const std::string json = lgtest::readFile(out + "/compliance.json");
+    CHECK(json.find("\"pass\": true,\n  \"checks_pass\": false") != std::string::npos);  // the free drop's tyre
+    for (const char* n : {"cert-limit-landing", "cert-limit-takeoff", "cert-reserve", "light", "free-drop"})
+      CHECK(json.find(std::string("{\"name\": \"") + n + "\"") != std::string::npos);
+    const std::string md = lgtest::readFile(out + "/compliance.md");
+    CHECK(md.find("**Verdict: PASS**") != std::string::npos);
+    CHECK(md.find("| cert-reserve | reserve | 3.660 | 1 | 4050 |") != std::string::npos);
+    CHECK(md.find("| free-drop | check | 2.500 | 0 | 4050 |") != std::string::npos);
+    CHECK(md.find("**FAIL**: tyre_margin") != std::string::npos);
+  }
+  SECTION("a design limit below the limit drop's load factor fails") {
+    const std::string file = dir / "strict.toml";
+    lgtest::writeFile(file, [&] {
+      std::string t = seed;
+      t.replace(t.find("limit_load_factor = 2.5"), 23, "limit_load_factor = 2.0");
+      return t;
+    }());
+    const std::string out = dir / "fail";
+    CHECK(certify(q(file) + " --out " + q(out), dir / "err.txt") == 1);
+    const std::string md = lgtest::readFile(out + "/compliance.md");
+    CHECK(md.find("**Verdict: FAIL**") != std::string::npos);
+    CHECK(md.find("load_factor 2.1716") != std::string::npos);
+    // --basis replaces the table's basis: CS-25's reserve drop at 3.7 m/s
+    const std::string cs = dir / "cs25";
+    CHECK(certify(q(file) + " --basis cs25 --out " + q(cs), dir / "err.txt") == 1);
+    CHECK(lgtest::readFile(cs + "/compliance.json").find("\"sink_speed_mps\": 3.7") != std::string::npos);
+  }
+  SECTION("bad input: exit 2, a message, nothing written") {
+    const std::string noTable = dir / "plain.toml";
+    lgtest::writeFile(noTable, seed.substr(0, seed.find("# ---- certification matrix")));
+    struct Bad {
+      std::string args, words;
+    } bad[] = {{q(noTable), "has no [certification] table"},
+               {q(lgtest::sourcePath("data/seed_gear.toml")) + " --basis part24", "'--basis': value 'part24' must be one of"},
+               {q(lgtest::sourcePath("data/seed_gear.toml")) + " --basis part23", "needs the wing loading"},
+               {q(dir / "missing.toml"), "cannot open"}};
+    for (const Bad& b : bad) {
+      INFO(b.args);
+      const std::string out = dir / "bad_out";
+      CHECK(certify(b.args + " --out " + q(out), dir / "err.txt") == 2);
+      CHECK_FALSE(std::filesystem::exists(out));
+      const std::string err = lgtest::readFile(dir / "err.txt");
+      CHECK(err.rfind("error: ", 0) == 0);
+      CHECK(err.find(b.words) != std::string::npos);
+    }
+  }
+}
