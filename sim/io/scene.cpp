@@ -67,17 +67,19 @@ std::shared_ptr<const Table1D> readTable(const std::string& path, const TomlRead
   return std::make_shared<Table1D>(std::move(x), std::move(y), path);
 }
 
+// True if two point pairs (body, point in its frame) are the same pair, in either order.
+bool samePointPair(int a1, const Vec3<double>& p1, int a2, const Vec3<double>& p2, int b1, const Vec3<double>& q1, int b2,
+                   const Vec3<double>& q2) {
+  auto same = [](const Vec3<double>& a, const Vec3<double>& b) { return (a - b).norm() <= 1e-9; };
+  return (a1 == b1 && a2 == b2 && same(p1, q1) && same(p2, q2)) || (a1 == b2 && a2 == b1 && same(p1, q2) && same(p2, q1));
+}
+
 // The bottoming stop of a strut: a "min_distance" stop between the strut's own two points (in either
 // order), -1 if the scene has none.
 int bottomingStopOf(const Model<double>& m, const ShockAbsorber<double>& s) {
-  auto same = [](const Vec3<double>& a, const Vec3<double>& b) { return (a - b).norm() <= 1e-9; };
   for (int c = 0; c < static_cast<int>(m.constraints.size()); ++c)
-    if (const auto* st = std::get_if<DistanceStop<double>>(&m.constraints[c].type)) {
-      if (st->noFarther) continue;
-      if ((st->bi == s.bi && st->bj == s.bj && same(st->rho_i, s.rho_i) && same(st->rho_j, s.rho_j)) ||
-          (st->bi == s.bj && st->bj == s.bi && same(st->rho_i, s.rho_j) && same(st->rho_j, s.rho_i)))
-        return c;
-    }
+    if (const auto* st = std::get_if<DistanceStop<double>>(&m.constraints[c].type))
+      if (!st->noFarther && samePointPair(st->bi, st->rho_i, st->bj, st->rho_j, s.bi, s.rho_i, s.bj, s.rho_j)) return c;
   return -1;
 }
 
@@ -266,10 +268,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       const auto& A = std::get<DistanceStop<double>>(m.constraints[sc.roles.stops[a]].type);
       const auto& B = std::get<DistanceStop<double>>(m.constraints[sc.roles.stops[b]].type);
       if (A.noFarther || !B.noFarther) continue;
-      auto same = [](const Vec3<double>& x, const Vec3<double>& y) { return (x - y).norm() <= 1e-9; };
-      const bool samePoints = (A.bi == B.bi && A.bj == B.bj && same(A.rho_i, B.rho_i) && same(A.rho_j, B.rho_j)) ||
-                              (A.bi == B.bj && A.bj == B.bi && same(A.rho_i, B.rho_j) && same(A.rho_j, B.rho_i));
-      if (samePoints && !(A.L < B.L))
+      if (samePointPair(A.bi, A.rho_i, A.bj, A.rho_j, B.bi, B.rho_i, B.bj, B.rho_j) && !(A.L < B.L))
         TomlReader(*stops[a], file, "stop[" + std::to_string(a) + "]")
             .fail("min_distance", "value " + fmt(A.L) + " m must be shorter than the max_distance " + fmt(B.L) +
                                       " m of stop '" + m.constraints[sc.roles.stops[b]].name + "' on the same points");
