@@ -362,7 +362,8 @@ void parseAlgorithm(const toml::table& doc, const std::string& file, Study& s) {
 }  // namespace
 
 // ---- parsing ---------------------------------------------------------------------------------------
-Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir) {
+Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir,
+                 const std::vector<ParameterOverride>& sets) {
   toml::table doc;
   try {
     doc = toml::parse(text, file);
@@ -391,7 +392,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
     s.sceneFile = p.lexically_normal().string();
     s.sceneDir = p.parent_path().lexically_normal().string();
     if (s.sceneDir.empty()) s.sceneDir = ".";
-    s.scene = loadScene(s.sceneFile);  // its own errors name the scene file
+    s.scene = applyOverrides(loadScene(s.sceneFile), sets);  // its own errors name the scene file
   }
 
   // [solver]: the study's own integrator settings, written into the scene's [solver] so that every
@@ -462,13 +463,13 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
   return s;
 }
 
-Study loadStudy(const std::string& path) {
+Study loadStudy(const std::string& path, const std::vector<ParameterOverride>& sets) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, 0, "", "study file does not exist");
   const std::string text = readText(path, "study file");
   std::string base = std::filesystem::path(path).parent_path().string();
   if (base.empty()) base = ".";
-  return parseStudy(text, path, base);
+  return parseStudy(text, path, base, sets);
 }
 
 }  // namespace lg::optim

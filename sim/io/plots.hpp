@@ -28,6 +28,9 @@ struct CaseFigure {
   const CaseResult* baseline = nullptr;  // optional: a second run drawn in grey ("baseline")
   std::string runLabel = "compression", baselineLabel = "baseline";
   PlotLimits limits;
+  std::string strut, tyre;  // the elements drawn when the scene has several (their columns "s_<strut>", ...)
+  // Draws the scene's first strut and first tyre.
+  void drawElementsOf(const Scene& scene);
 };
 
 // True when gnuplot can be run.
