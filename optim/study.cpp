@@ -9,6 +9,7 @@
 #include <nlopt.h>
 
 #include "optim/optimizer.hpp"
+#include "sim/io/files.hpp"
 #include "sim/io/toml_reader.hpp"
 #include "sim/metrics.hpp"
 
@@ -137,7 +138,7 @@ void parseCases(const toml::table& doc, const std::string& file, Study& s) {
     c.line = r.line();
     c.role = parseRole(r, "role", CaseRole::Objective);
     c.weight = r.positive("weight", 1.0);
-    const std::string name = r.string("name", "case" + std::to_string(i));
+    const std::string name = r.name("name", "case" + std::to_string(i));
     if (name.empty()) r.fail("name", "a case needs a non-empty name");
     if (!named.insert(name).second) r.fail("name", "case '" + name + "' appears twice in the study");
     const DropCase* sceneCase = nullptr;
@@ -364,12 +365,7 @@ void parseAlgorithm(const toml::table& doc, const std::string& file, Study& s) {
 // ---- parsing ---------------------------------------------------------------------------------------
 Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir,
                  const std::vector<ParameterOverride>& sets) {
-  toml::table doc;
-  try {
-    doc = toml::parse(text, file);
-  } catch (const toml::parse_error& e) {
-    throw InputError(file, static_cast<int>(e.source().begin.line), "", "TOML syntax: " + std::string(e.description()));
-  }
+  const toml::table doc = parseToml(text, file);
   Study s;
   s.file = file;
   TomlReader top(doc, file, "");
@@ -378,7 +374,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
                             "e.g. [[constraint]] metric = \"stroke_margin\" min = 0.01 (README, \"Study files\")");
   top.allowOnly({"name", "description", "scene", "solver", "variable", "case", "objective", "constraint", "certification",
                  "algorithm"});
-  s.name = top.string("name", std::filesystem::path(file).stem().string());
+  s.name = top.name("name", safeFileStem(std::filesystem::path(file).stem().string()));
   (void)top.string("description", "");
 
   // scene

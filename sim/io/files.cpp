@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -11,6 +12,13 @@
 #include <stdexcept>
 
 namespace lg {
+
+std::string safeFileStem(const std::string& name) {
+  std::string s;
+  for (unsigned char c : name) s += (std::isalnum(c) || c == '-' || c == '_' || c == '.') ? static_cast<char>(c) : '_';
+  while (!s.empty() && s[0] == '.') s[0] = '_';
+  return s.empty() ? "case" : s;
+}
 
 void writeFileAtomic(const std::string& path, const std::string& text) {
   const std::string tmp = path + ".tmp" + std::to_string(::getpid());

@@ -7,6 +7,11 @@
 
 namespace lg {
 
+// A file stem made from a name: letters, digits, '-', '_' and '.' kept, anything else '_', never empty,
+// never starting with '.'; "case" if nothing is left. Names of scenes are checked at load
+// (TomlReader::name); this keeps any other text from becoming a path outside the output directory.
+std::string safeFileStem(const std::string& name);
+
 // Writes 'text' to 'path' atomically; throws std::runtime_error naming the path and the cause.
 void writeFileAtomic(const std::string& path, const std::string& text);
 

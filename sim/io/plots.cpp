@@ -117,13 +117,6 @@ std::string hline(double y, const char* colour, const std::string& name) {
 }
 }  // namespace
 
-std::string safeFileStem(const std::string& name) {
-  std::string s;
-  for (unsigned char c : name) s += (std::isalnum(c) || c == '-' || c == '_' || c == '.') ? static_cast<char>(c) : '_';
-  while (!s.empty() && s[0] == '.') s[0] = '_';
-  return s.empty() ? "case" : s;
-}
-
 bool haveGnuplot() { return std::system("command -v gnuplot >/dev/null 2>&1") == 0; }
 
 void CaseFigure::drawElementsOf(const Scene& scene) {

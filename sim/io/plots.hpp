@@ -9,6 +9,7 @@
 #include <string>
 
 #include "sim/drop_test.hpp"
+#include "sim/io/files.hpp"  // safeFileStem
 
 namespace lg {
 
@@ -43,9 +44,5 @@ PlotLimits sceneLimits(const Scene& scene);
 // false with the reason when gnuplot is missing or fails (data and script are written regardless).
 // STEM must be a safe file stem (safeFileStem). Throws std::runtime_error if a file cannot be written.
 bool drawCaseFigure(const CaseFigure& f, const std::string& dir, const std::string& stem, bool run, std::string* why);
-
-// A file stem made from a name: letters, digits, '-', '_' and '.' kept, anything else '_', never empty,
-// never starting with '.'; "case" if nothing is left.
-std::string safeFileStem(const std::string& name);
 
 }  // namespace lg
