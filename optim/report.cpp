@@ -494,6 +494,17 @@ StudyResult runStudy(const Study& s, const RunOptions& o) {
   std::vector<CaseResult> baseRuns, bestRuns;
   const Evaluation e0 = evaluateDesign(s, res.opt.x0, all, &baseRuns);
   const Evaluation e1 = evaluateDesign(s, res.opt.x, all, &bestRuns);
+  // A design the scene rejects runs no case: each case then fails with the design's reason.
+  for (auto* runs : {&baseRuns, &bestRuns}) {
+    const Evaluation& e = runs == &baseRuns ? e0 : e1;
+    if (runs->size() == s.cases.size()) continue;
+    runs->assign(s.cases.size(), CaseResult{});
+    for (size_t i = 0; i < s.cases.size(); ++i) {
+      (*runs)[i].metrics.name = s.cases[i].dropCase.name;
+      (*runs)[i].metrics.ok = false;
+      (*runs)[i].metrics.message = e.message;
+    }
+  }
   for (const auto& r : baseRuns) res.baselineCases.push_back(r.metrics);
   for (const auto& r : bestRuns) res.bestCases.push_back(r.metrics);
   if (res.opt.best.ok && e1.ok && e1.objective != res.opt.best.objective)
