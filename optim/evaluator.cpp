@@ -93,12 +93,10 @@ Evaluation reduceMetrics(const Study& s, std::vector<CaseMetrics> cases, double 
 Evaluation evaluateDesign(const Study& s, const std::vector<double>& x, const EvaluatorOptions& o,
                           std::vector<CaseResult>* results) {
   try {
-    Scene scene;
-    try {
-      scene = buildScene(designDocument(s, x), s.sceneFile, s.sceneDir);
-    } catch (const InputError& e) {
+    Scene scene = s.scene;  // the design: the variables set as data in the model, no text parsed
+    if (const auto why = applyParameters(scene, s.parameters, x)) {
       Evaluation ev;
-      ev.message = std::string("the scene rejects the design: ") + e.what();
+      ev.message = "the scene rejects the design: " + *why;
       return ev;
     }
     const std::vector<DropCase> cases = designCases(s, scene, o.checks);

@@ -1,5 +1,5 @@
-// Evaluating one design of a study on the simulator: edit the scene document, rebuild the scene,
-// run the steering cases (OpenMP through lg::runCases; cases that differ only by name run once),
+// Evaluating one design of a study on the simulator: set the variables in the scene's model as data
+// (sim/parameters.hpp; no text edited or parsed), check the scene's rules, run the steering cases (OpenMP through lg::runCases; cases that differ only by name run once),
 // reduce the per-case metrics to the objective and the constraints in a fixed order (so results are
 // bitwise identical for any thread count).
 #pragma once
@@ -20,7 +20,7 @@ struct EvaluatorOptions {
   bool checks = false;             // also run the check cases (reports: every case of the study)
 };
 
-// The scene document with the variables set to x (physical units).
+// The scene document with the variables set to x (physical units): best.toml's text.
 toml::table designDocument(const Study& s, const std::vector<double>& x);
 // The drop cases of a design, in the order of Study::cases: the steering cases, and with 'checks' the
 // check cases too. Scene cases are re-read from the design's scene, matrix cases get W made up on it.

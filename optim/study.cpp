@@ -428,7 +428,9 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
     if (!paths.insert(v.path).second) r.fail("path", "'" + v.path + "' is already a variable of this study");
     double sceneValue = 0;
     try {
-      sceneValue = getParameter(s.scene.doc, v.path, s.sceneFile);
+      s.parameters.push_back(resolveParameter(s.scene, v.path, s.sceneFile));
+      sceneValue = parameterValue(s.scene, s.parameters.back());
+      (void)getParameter(s.scene.doc, v.path, s.sceneFile);  // best.toml writes it: the file must hold the key
     } catch (const InputError& e) {
       r.fail("path", "'" + v.path + "' is not a numeric parameter of the scene (" + e.what() + ")");
     }

@@ -37,6 +37,7 @@
 #include "sim/certification.hpp"
 #include "sim/drop_test.hpp"
 #include "sim/io/overrides.hpp"
+#include "sim/parameters.hpp"
 
 namespace lg::optim {
 
@@ -123,6 +124,7 @@ struct Study {
   std::string sceneDir;   // its directory (relative tables)
   Scene scene;            // baseline scene (the study's [solver] and [certification] written into its doc)
   std::vector<Variable> variables;
+  std::vector<Parameter> parameters;   // the variables resolved in the scene (one each, same order)
   std::vector<StudyCase> cases;        // steering cases first (study order), then the checks
   Objective objective;
   std::vector<ConstraintSpec> constraints;

@@ -24,6 +24,7 @@ template <class S> struct ConstantForce {
   void damping(const Kins<S>&, DampingTerm<S>*) const {}
   static std::vector<std::string> outputNames() { return {}; }
   void outputs(const Kins<S>&, S*) const {}
+  S* parameter(const std::string&) { return nullptr; }  // vectors only: no scalar design parameter
   template <class T> ConstantForce<T> cast() const { return {body, castVec<T>(force)}; }
 };
 

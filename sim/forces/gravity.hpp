@@ -26,6 +26,7 @@ template <class S> struct Gravity {
   void damping(const Kins<S>&, DampingTerm<S>*) const {}
   static std::vector<std::string> outputNames() { return {}; }
   void outputs(const Kins<S>&, S*) const {}
+  S* parameter(const std::string&) { return nullptr; }  // vectors only: no scalar design parameter
   template <class T> Gravity<T> cast() const { return {castVec<T>(g)}; }
 };
 

@@ -42,12 +42,15 @@ template <class S> struct ShockAbsorber {
   S n;               // [-] polytropic exponent
   S rho;             // [kg/m^3] fluid density
   S f1;              // [m^2] main orifice area (when no table)
-  S f2;              // [m^2] rebound orifice area (0: no rebound orifice term)
+  S f2;              // [m^2] rebound orifice area (when declared)
   S xi1, xi2;        // [-] loss coefficients
   S mu;              // [-] friction coefficient
   S pAtm;            // [Pa] atmospheric pressure (0: off)
   double frictionVelocity = 1e-3;      // [m/s] eps of sgn_eps
   std::shared_ptr<const Table1D> f1Table;  // [m -> m^2] metering pin f_1(s), or null
+  bool reboundOrifice = false;             // the scene declares f2: the rebound-orifice term exists
+
+  bool declaresReboundOrifice() const { return reboundOrifice; }
 
   struct Eval {
     Vec3<S> a_i, a_j, e;
@@ -75,7 +78,7 @@ template <class S> struct ShockAbsorber {
     const S fa = mainOrifice(r.s);
     r.orifice1 = xi1 * rho * F * F * F * signedSquare(r.sdot) / (S(2) * fa * fa);
     r.orifice2 = S(0);
-    if (isPositive(f2)) {  // declared by the scene, not a value-dependent branch
+    if (reboundOrifice) {  // declared by the scene, not a value-dependent branch
       const S F2 = annularArea();
       r.orifice2 = xi2 * rho * F2 * F2 * F2 * signedSquare(r.sdot) / (S(2) * f2 * f2);
     }
@@ -105,7 +108,7 @@ template <class S> struct ShockAbsorber {
     const S fa = mainOrifice(r.s);
     const S speed = sqrt(v2);
     c += xi1 * rho * F * F * F * speed / (fa * fa);
-    if (isPositive(f2)) {
+    if (reboundOrifice) {
       const S F2 = annularArea();
       c += xi2 * rho * F2 * F2 * F2 * speed / (f2 * f2);
     }
@@ -113,7 +116,7 @@ template <class S> struct ShockAbsorber {
   }
   std::vector<std::string> outputNames() const {
     std::vector<std::string> names{"s", "s_dot", "p_1", "P_a", "P_gas", "P_friction", "P_orifice1"};
-    if (value(f2) > 0) names.push_back("P_orifice2");
+    if (reboundOrifice) names.push_back("P_orifice2");
     return names;
   }
   void outputs(const Kins<S>& K, S* out) const {
@@ -125,11 +128,29 @@ template <class S> struct ShockAbsorber {
     out[4] = r.gas;
     out[5] = r.friction;
     out[6] = r.orifice1;
-    if (value(f2) > 0) out[7] = r.orifice2;
+    if (reboundOrifice) out[7] = r.orifice2;
+  }
+  // The scalar a scene key names, as a design parameter (nullptr: none; friction_velocity and the table
+  // are not design parameters).
+  S* parameter(const std::string& key) {
+    if (key == "L0") return &L0;
+    if (key == "D") return &D;
+    if (key == "D2") return &D2;
+    if (key == "p01") return &p01;
+    if (key == "Omega0") return &Omega0;
+    if (key == "n") return &n;
+    if (key == "rho") return &rho;
+    if (key == "f1") return f1Table ? nullptr : &f1;
+    if (key == "f2") return reboundOrifice ? &f2 : nullptr;
+    if (key == "xi1") return &xi1;
+    if (key == "xi2") return &xi2;
+    if (key == "mu") return &mu;
+    if (key == "p_atm") return &pAtm;
+    return nullptr;
   }
   template <class T> ShockAbsorber<T> cast() const {
     return {bi, bj, castVec<T>(rho_i), castVec<T>(rho_j), T(L0), T(D), T(D2), T(p01), T(Omega0), T(n), T(rho),
-            T(f1), T(f2), T(xi1), T(xi2), T(mu), T(pAtm), frictionVelocity, f1Table};
+            T(f1), T(f2), T(xi1), T(xi2), T(mu), T(pAtm), frictionVelocity, f1Table, reboundOrifice};
   }
 };
 

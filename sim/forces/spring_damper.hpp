@@ -55,6 +55,13 @@ template <class S> struct SpringDamper {
     out[0] = r.L;
     out[1] = k * (r.L - L0) + c * r.Ldot;
   }
+  // The scalar a scene key names, as a design parameter (nullptr: none).
+  S* parameter(const std::string& key) {
+    if (key == "k") return &k;
+    if (key == "c") return &c;
+    if (key == "L0") return &L0;
+    return nullptr;
+  }
   template <class T> SpringDamper<T> cast() const {
     return {bi, bj, castVec<T>(rho_i), castVec<T>(rho_j), T(k), T(c), T(L0)};
   }

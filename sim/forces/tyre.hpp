@@ -55,6 +55,15 @@ template <class S> struct Tyre {
     const S x = positivePart(out[0]) / deltaMax;
     out[3] = isPositive(out[0]) ? K * (S(1) + S(3) * alpha * x * x) * out[2] : S(0);
   }
+  // The scalar a scene key names, as a design parameter (nullptr: none).
+  S* parameter(const std::string& key) {
+    if (key == "radius") return &radius;
+    if (key == "K") return &K;
+    if (key == "delta_max") return &deltaMax;
+    if (key == "alpha") return &alpha;
+    if (key == "ground_height") return &groundHeight;
+    return nullptr;
+  }
   template <class T> Tyre<T> cast() const {
     return {body, castVec<T>(rho), castVec<T>(normal), T(groundHeight), T(radius), T(K), T(deltaMax), T(alpha)};
   }

@@ -17,6 +17,7 @@
 #include "sim/certification.hpp"
 #include "sim/engine.hpp"
 #include "sim/io/toml_reader.hpp"
+#include "sim/scene_check.hpp"
 
 namespace lg {
 
@@ -68,22 +69,6 @@ std::shared_ptr<const Table1D> readTable(const std::string& path, const TomlRead
     if (!(y[i] > 0)) r.fail(key, "table '" + path + "': area " + fmt(y[i]) + " at row " + std::to_string(i + 2) + " must be > 0");
   }
   return std::make_shared<Table1D>(std::move(x), std::move(y), path);
-}
-
-// True if two point pairs (body, point in its frame) are the same pair, in either order.
-bool samePointPair(int a1, const Vec3<double>& p1, int a2, const Vec3<double>& p2, int b1, const Vec3<double>& q1, int b2,
-                   const Vec3<double>& q2) {
-  auto same = [](const Vec3<double>& a, const Vec3<double>& b) { return (a - b).norm() <= 1e-9; };
-  return (a1 == b1 && a2 == b2 && same(p1, q1) && same(p2, q2)) || (a1 == b2 && a2 == b1 && same(p1, q2) && same(p2, q1));
-}
-
-// The bottoming stop of a strut: a "min_distance" stop between the strut's own two points (in either
-// order), -1 if the scene has none.
-int bottomingStopOf(const Model<double>& m, const ShockAbsorber<double>& s) {
-  for (int c = 0; c < static_cast<int>(m.constraints.size()); ++c)
-    if (const auto* st = std::get_if<DistanceStop<double>>(&m.constraints[c].type))
-      if (!st->noFarther && samePointPair(st->bi, st->rho_i, st->bj, st->rho_j, s.bi, s.rho_i, s.bj, s.rho_j)) return c;
-  return -1;
 }
 
 // The joints' rows must be independent at touchdown: a joint whose row is a combination of earlier
@@ -302,18 +287,6 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     m.constraints.push_back(c);
     constraintLine.push_back(r.line());
   }
-  // A "no nearer" (bottoming) stop on the same two points as a "no farther" (extension) stop must be
-  // shorter than it, or the two leave no stroke between them.
-  for (size_t a = 0; a < stops.size(); ++a)
-    for (size_t b = 0; b < stops.size(); ++b) {
-      const auto& A = std::get<DistanceStop<double>>(m.constraints[sc.roles.stops[a]].type);
-      const auto& B = std::get<DistanceStop<double>>(m.constraints[sc.roles.stops[b]].type);
-      if (A.noFarther || !B.noFarther) continue;
-      if (samePointPair(A.bi, A.rho_i, A.bj, A.rho_j, B.bi, B.rho_i, B.bj, B.rho_j) && !(A.L < B.L))
-        TomlReader(*stops[a], file, "stop[" + std::to_string(a) + "]")
-            .fail("min_distance", "value " + fmt(A.L) + " m must be shorter than the max_distance " + fmt(B.L) +
-                                      " m of stop '" + m.constraints[sc.roles.stops[b]].name + "' on the same points");
-    }
   // [[force]]
   const auto forcesT = tablesOf(doc, "force", file);
   Vec3<double> g = Vec3<double>::Zero();
@@ -352,9 +325,6 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       s.rho_i = toBody(s.bi, B);
       s.rho_j = toBody(s.bj, C);
       s.L0 = r.positive("L0", (B - C).norm());
-      if (std::abs(s.L0 - (B - C).norm()) > 1e-6)
-        r.fail("L0", "value " + fmt(s.L0) + " m differs from the distance of rod_point and cylinder_point at touchdown, " +
-                         fmt((B - C).norm()) + " m: the strut starts fully extended (s = 0); leave L0 out or correct the points");
       s.D = r.positive("D");
       s.D2 = r.positive("D2", s.D);
       if (!(s.D2 >= s.D)) r.fail("D2", "bore " + fmt(s.D2) + " must be >= rod diameter D = " + fmt(s.D));
@@ -373,35 +343,15 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
         if (s.f1Table->xMin() > 0) r.fail("f1_table", "table must start at stroke <= 0");
       }
       s.f2 = r.has("f2") ? r.positive("f2") : 0.0;
+      s.reboundOrifice = r.has("f2");
       if (r.has("f2") && s.D2 <= s.D) r.fail("D2", "a rebound orifice f2 needs an annular chamber: D2 > D");
       s.xi2 = r.has("f2") ? r.positive("xi2") : (r.has("xi2") ? r.positive("xi2") : 0.0);
       s.mu = r.nonNegative("mu", 0.0);
       s.pAtm = r.nonNegative("p_atm", 0.0);
       if (!(s.pAtm < s.p01)) r.fail("p_atm", "value " + fmt(s.pAtm) + " must be < p01 = " + fmt(s.p01) + " (the gas must push the rod out)");
       s.frictionVelocity = r.positive("friction_velocity", 1e-3);
-      // The stroke the strut can reach: its bottoming stop's S_max, else the stroke that would exhaust
-      // the gas volume (or L0). The gas must outlast the bottoming stroke, and a table cover the reach.
-      const double F = M_PI * s.D * s.D / 4;
-      double reach = std::min(s.L0, s.Omega0 / F), strokeLimit = std::numeric_limits<double>::quiet_NaN();
-      const int stop = bottomingStopOf(m, s);
-      if (stop >= 0) {
-        const auto& st = std::get<DistanceStop<double>>(m.constraints[stop].type);
-        strokeLimit = s.L0 - st.L;
-        if (!(strokeLimit > 0))
-          r.fail("L0", "the bottoming stop '" + m.constraints[stop].name + "' (min_distance " + fmt(st.L) +
-                           " m) is not shorter than the extended strut, L0 = " + fmt(s.L0) + " m");
-        if (!(s.Omega0 > F * strokeLimit))
-          r.fail("Omega0", "gas volume " + fmt(s.Omega0) + " m^3 must be larger than the volume swept at the bottoming stroke, F S_max = " +
-                               fmt(F * strokeLimit) + " m^3 (F = pi D^2/4 = " + fmt(F) + " m^2, S_max = " + fmt(strokeLimit) +
-                               " m at stop '" + m.constraints[stop].name + "')");
-        reach = std::min(reach, strokeLimit);
-      }
-      if (s.f1Table && s.f1Table->xMax() < reach - 1e-12)
-        r.fail("f1_table", "table ends at stroke " + fmt(s.f1Table->xMax()) + " m but the strut can reach " + fmt(reach) + " m");
       f.type = s;
       sc.roles.struts.push_back(static_cast<int>(m.forces.size()));
-      sc.roles.strokeLimits.push_back(strokeLimit);
-      sc.roles.bottomingStops.push_back(stop);
     } else if (type == "tyre") {
       r.allowOnly({"name", "type", "body", "point", "radius", "K", "delta_max", "alpha", "ground_normal", "ground_height"});
       Tyre<double> t;
@@ -411,11 +361,6 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       t.normal = r.unitVec3("ground_normal", Vec3<double>(0, 1, 0));
       t.groundHeight = r.number("ground_height", 0.0);
       t.radius = r.positive("radius");
-      const double clearance = t.normal.dot(centre) - t.groundHeight;  // [m] wheel centre above the ground
-      if (t.radius - clearance > 1e-6)
-        r.fail("radius", "the tyre is pressed " + fmt(t.radius - clearance) + " m into the ground at touchdown (radius " +
-                             fmt(t.radius) + " m, wheel centre " + fmt(clearance) +
-                             " m above the ground): at t = 0 it must just touch the ground or clear it");
       t.K = r.positive("K");
       t.deltaMax = r.positive("delta_max");
       t.alpha = r.nonNegative("alpha", 0.0);
@@ -494,9 +439,6 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     c.name = r.name("name");
     if (!caseNames.insert(c.name).second) r.fail("name", "case '" + c.name + "' is defined twice");
     c.sinkSpeed = r.number("sink_speed");
-    if (!(c.sinkSpeed > 0))
-      r.fail("sink_speed", "value " + fmt(c.sinkSpeed) + " must be > 0 [m/s]: a drop starts moving (the efficiency and the "
-                           "energy balance are measured against the initial kinetic energy)");
     c.liftRatio = r.nonNegative("lift_ratio", 0.0);
     c.duration = r.positive("duration", 0.8);
     if (c.liftRatio > 0 && sc.roles.lifts.empty()) r.fail("lift_ratio", "the scene declares no lift element");
@@ -511,6 +453,15 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       }
     }
     sc.cases.push_back(c);
+  }
+  // Physical consistency (sim/scene_check.hpp), named at the key's line; then the matrix, which needs
+  // each strut's S_max.
+  if (const auto p = checkScene(sc)) {
+    const auto rows = tablesOf(doc, p->array, file);
+    const int line = p->index >= 0 && p->index < static_cast<int>(rows.size())
+                         ? TomlReader(*rows[p->index], file, "").lineOf(p->key)
+                         : 0;
+    throw InputError(file, line, p->array + "[" + std::to_string(p->index) + "]." + p->key, p->rule);
   }
   // [certification]: the drop-test matrix of the rules (sim/certification.hpp).
   if (const toml::table* t = tableOf(doc, "certification", file))

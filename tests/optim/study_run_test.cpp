@@ -205,3 +205,25 @@ TEST_CASE("study run: --resume reuses the history without simulating again", "[o
   CHECK(readFile(fs::path(o.outDir) / "history.csv") == h1);
   CHECK(sameBits(r2.opt.best.objective, r1.opt.best.objective));
 }
+
+// Designs are set as data in the model (sim/parameters.hpp), not as edited text: the results are the
+// bits a scene rebuilt from the edited document gives, and the scene's rules still reject a bad design.
+TEST_CASE("study run: a design set as data runs the bits of the rebuilt scene", "[optim][seed][parameters]") {
+  const Study s = shippedStudy(0);
+  std::vector<double> x;
+  for (const auto& v : s.variables) x.push_back(0.37 * v.lower + 0.63 * v.upper);
+  EvaluatorOptions o;
+  o.threads = 2;
+  const Evaluation e = evaluateDesign(s, x, o);
+  REQUIRE(e.ok);
+  const lg::Scene rebuilt = lg::buildScene(designDocument(s, x), s.sceneFile, s.sceneDir);
+  const auto runs = lg::runCases(rebuilt, designCases(s, rebuilt, false), 2);
+  REQUIRE(runs.size() == e.cases.size());
+  for (size_t i = 0; i < runs.size(); ++i) requireSameMetrics(runs[i].metrics, e.cases[i]);
+  // the gas volume below the volume swept at the bottoming stroke: rejected with the scene's own rule
+  std::vector<double> bad = x;
+  bad[3] = 1.2e-3;
+  const Evaluation r = evaluateDesign(s, bad, o);
+  CHECK_FALSE(r.ok);
+  CHECK(r.message.rfind("the scene rejects the design: strut.Omega0: gas volume 0.0012 m^3 must be larger", 0) == 0);
+}

@@ -1,0 +1,84 @@
+// Design parameters resolved to typed places (parameters.hpp).
+#include "sim/parameters.hpp"
+
+#include "sim/scene_check.hpp"
+
+namespace lg {
+
+Parameter resolveParameter(const Scene& scene, const std::string& path, const std::string& where) {
+  const auto dot = path.rfind('.');
+  if (dot == std::string::npos || dot == 0 || dot + 1 == path.size())
+    throw InputError(where, 0, path, "parameter path must read <element>.<key>, e.g. strut.f1");
+  Parameter p;
+  p.path = path;
+  const std::string element = path.substr(0, dot);
+  p.key = path.substr(dot + 1);
+  const Model<double>& m = scene.model;
+  auto fail = [&](const std::string& rule) -> Parameter { throw InputError(where, 0, path, rule); };
+  if (const int b = m.bodyIndex(element); b >= 0) {
+    if (p.key != "mass") return fail("body '" + element + "' has no numeric parameter '" + p.key + "' (its one: mass)");
+    p.kind = Parameter::Kind::BodyMass;
+    p.index = b;
+    return p;
+  }
+  if (const int c = m.constraintIndex(element); c >= 0) {
+    const auto* st = std::get_if<DistanceStop<double>>(&m.constraints[c].type);
+    const std::string key = st && st->noFarther ? "max_distance" : "min_distance";
+    if (!st || p.key != key)
+      return fail(st ? "stop '" + element + "' has no numeric parameter '" + p.key + "' (its one: " + key + ")"
+                     : "joint '" + element + "' has no numeric parameter");
+    p.kind = Parameter::Kind::StopLength;
+    p.index = c;
+    return p;
+  }
+  if (const int f = m.forceIndex(element); f >= 0) {
+    ForceElement<double> e = m.forces[f];  // parameter() hands out a mutable field: ask a copy
+    if (!std::visit([&](auto& x) { return x.parameter(p.key) != nullptr; }, e.type))
+      return fail("force element '" + element + "' has no numeric design parameter '" + p.key + "'");
+    p.kind = Parameter::Kind::Force;
+    p.index = f;
+    return p;
+  }
+  for (size_t c = 0; c < scene.cases.size(); ++c)
+    if (scene.cases[c].name == element) {
+      if (p.key != "sink_speed" && p.key != "lift_ratio" && p.key != "duration")
+        return fail("case '" + element + "' has no numeric parameter '" + p.key + "' (its: sink_speed, lift_ratio, duration)");
+      p.kind = Parameter::Kind::Case;
+      p.index = static_cast<int>(c);
+      return p;
+    }
+  return fail("no body, stop, force element or case named '" + element + "' in the scene");
+}
+
+double parameterValue(const Scene& scene, const Parameter& p) {
+  const Model<double>& m = scene.model;
+  switch (p.kind) {
+    case Parameter::Kind::BodyMass: return m.bodies[p.index].mass;
+    case Parameter::Kind::StopLength: return std::get<DistanceStop<double>>(m.constraints[p.index].type).L;
+    case Parameter::Kind::Force: {
+      ForceElement<double> e = m.forces[p.index];
+      return *std::visit([&](auto& x) { return x.parameter(p.key); }, e.type);
+    }
+    case Parameter::Kind::Case: {
+      const DropCase& c = scene.cases[p.index];
+      return p.key == "sink_speed" ? c.sinkSpeed : p.key == "lift_ratio" ? c.liftRatio : c.duration;
+    }
+  }
+  return 0;
+}
+
+std::optional<std::string> applyParameters(Scene& scene, const std::vector<Parameter>& ps, const std::vector<double>& x) {
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const Parameter& p = ps[i];
+    if (p.kind != Parameter::Kind::Case) {
+      setModelParameter(scene.model, p, x[i]);
+      continue;
+    }
+    DropCase& c = scene.cases[p.index];
+    (p.key == "sink_speed" ? c.sinkSpeed : p.key == "lift_ratio" ? c.liftRatio : c.duration) = x[i];
+  }
+  if (const auto problem = checkScene(scene)) return describe(scene, *problem);
+  return std::nullopt;
+}
+
+}  // namespace lg

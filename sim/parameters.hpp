@@ -1,0 +1,48 @@
+// Design parameters as data: a path "<element>.<key>" (the syntax of study variables, --set and
+// calibration parameters, e.g. "strut.f1", "tyre.K", "airframe.mass", "bottoming.min_distance",
+// "limit.sink_speed") resolved once against a scene to a typed place, then set in a Model<S> of any
+// scalar (double for a design, ceres::Jet for its derivatives) without editing or parsing text.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/io/scene.hpp"
+
+namespace lg {
+
+struct Parameter {
+  enum class Kind { BodyMass, StopLength, Force, Case };
+  std::string path;   // as written: "strut.f1"
+  Kind kind = Kind::Force;
+  int index = -1;     // the body, the constraint (a stop), the force element, or the scene's case
+  std::string key;    // the scene key: "f1", "mass", "min_distance", "sink_speed"
+};
+
+// Resolves a path against a scene: the element is a body, stop, force element or case named in it
+// (searched in that order), the key one of its numeric scalars. Throws InputError(where, 0, path, rule).
+Parameter resolveParameter(const Scene& scene, const std::string& path, const std::string& where = "");
+
+// The parameter's value in a scene.
+double parameterValue(const Scene& scene, const Parameter& p);
+
+// Sets a model parameter in a model of any scalar (a case parameter is no part of the model: see
+// applyParameters).
+template <class S> void setModelParameter(Model<S>& m, const Parameter& p, const S& v) {
+  switch (p.kind) {
+    case Parameter::Kind::BodyMass: m.bodies[p.index].mass = v; break;
+    case Parameter::Kind::StopLength: std::get<DistanceStop<S>>(m.constraints[p.index].type).L = v; break;
+    case Parameter::Kind::Force:
+      *std::visit([&](auto& e) -> S* { return e.parameter(p.key); }, m.forces[p.index].type) = v;
+      break;
+    case Parameter::Kind::Case: break;
+  }
+}
+
+// A design of a scene: the parameters set to x (their SI units), what derives from them refreshed and
+// every rule of the scene checked (sim/scene_check.hpp). Returns why the scene rejects the design
+// ("strut.Omega0: gas volume ... must be larger ..."), or nothing.
+std::optional<std::string> applyParameters(Scene& scene, const std::vector<Parameter>& ps, const std::vector<double>& x);
+
+}  // namespace lg

@@ -1,0 +1,176 @@
+// Physical consistency of a scene (scene_check.hpp).
+#include "sim/scene_check.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "sim/engine.hpp"
+
+namespace lg {
+namespace {
+
+std::string num(double v) {
+  std::ostringstream o;
+  o.precision(10);
+  o << v;
+  return o.str();
+}
+
+bool samePair(int a1, const Vec3<double>& p1, int a2, const Vec3<double>& p2, int b1, const Vec3<double>& q1, int b2,
+              const Vec3<double>& q2) {
+  auto same = [](const Vec3<double>& a, const Vec3<double>& b) { return (a - b).norm() <= 1e-9; };
+  return (a1 == b1 && a2 == b2 && same(p1, q1) && same(p2, q2)) || (a1 == b2 && a2 == b1 && same(p1, q2) && same(p2, q1));
+}
+
+// The checks, each returning the first problem of its kind.
+class Checker {
+ public:
+  explicit Checker(Scene& sc) : sc_(sc), m_(sc.model), w_(sc.model) { kinematics(m_, sc.initial.y, w_); }
+
+  std::optional<SceneProblem> run() {
+    for (int b = 0; b < m_.nBodies(); ++b)
+      if (!(m_.bodies[b].mass > 0)) return problem("body", b, "mass", "value " + num(m_.bodies[b].mass) + " must be > 0");
+    for (size_t k = 0; k < sc_.roles.stops.size(); ++k)
+      if (auto p = stop(static_cast<int>(k))) return p;
+    sc_.roles.strokeLimits.assign(sc_.roles.struts.size(), std::numeric_limits<double>::quiet_NaN());
+    sc_.roles.bottomingStops.assign(sc_.roles.struts.size(), -1);
+    for (size_t f = 0; f < m_.forces.size(); ++f) {
+      std::optional<SceneProblem> p;
+      if (const auto* s = std::get_if<ShockAbsorber<double>>(&m_.forces[f].type)) p = strut(static_cast<int>(f), *s);
+      else if (const auto* t = std::get_if<Tyre<double>>(&m_.forces[f].type)) p = tyre(static_cast<int>(f), *t);
+      else if (const auto* d = std::get_if<SpringDamper<double>>(&m_.forces[f].type)) p = springDamper(static_cast<int>(f), *d);
+      if (p) return p;
+    }
+    for (size_t c = 0; c < sc_.cases.size(); ++c) {
+      const DropCase& d = sc_.cases[c];
+      const int i = static_cast<int>(c);
+      if (!(d.sinkSpeed > 0))
+        return problem("case", i, "sink_speed", "value " + num(d.sinkSpeed) + " must be > 0 [m/s]: a drop starts moving (the "
+                                                 "efficiency and the energy balance are measured against the initial kinetic energy)");
+      if (!(d.liftRatio >= 0)) return problem("case", i, "lift_ratio", "value " + num(d.liftRatio) + " must be >= 0");
+      if (!(d.duration > 0)) return problem("case", i, "duration", "value " + num(d.duration) + " must be > 0");
+    }
+    return std::nullopt;
+  }
+
+ private:
+  static std::optional<SceneProblem> problem(const std::string& array, int index, const std::string& key,
+                                             const std::string& rule) {
+    return SceneProblem{array, index, key, rule};
+  }
+  std::optional<SceneProblem> positive(int f, const char* key, double v) const {
+    if (!(v > 0)) return problem("force", f, key, "value " + num(v) + " must be > 0");
+    return std::nullopt;
+  }
+
+  // A "no nearer" (bottoming) stop on the same two points as a "no farther" (extension) stop must be
+  // shorter than it, or the two leave no stroke between them.
+  std::optional<SceneProblem> stop(int k) const {
+    const auto& A = std::get<DistanceStop<double>>(m_.constraints[sc_.roles.stops[k]].type);
+    if (!(A.L > 0)) return problem("stop", k, A.noFarther ? "max_distance" : "min_distance", "value " + num(A.L) + " must be > 0");
+    if (A.noFarther) return std::nullopt;
+    for (int ci : sc_.roles.stops) {
+      const auto& B = std::get<DistanceStop<double>>(m_.constraints[ci].type);
+      if (B.noFarther && samePair(A.bi, A.rho_i, A.bj, A.rho_j, B.bi, B.rho_i, B.bj, B.rho_j) && !(A.L < B.L))
+        return problem("stop", k, "min_distance", "value " + num(A.L) + " m must be shorter than the max_distance " +
+                                                      num(B.L) + " m of stop '" + m_.constraints[ci].name + "' on the same points");
+    }
+    return std::nullopt;
+  }
+
+  std::optional<SceneProblem> strut(int f, const ShockAbsorber<double>& s) {
+    for (const auto& [key, v] : {std::pair<const char*, double>{"D", s.D}, {"p01", s.p01}, {"Omega0", s.Omega0},
+                                 {"rho", s.rho}, {"xi1", s.xi1}})
+      if (auto p = positive(f, key, v)) return p;
+    if (!s.f1Table)
+      if (auto p = positive(f, "f1", s.f1)) return p;
+    if (!(s.D2 >= s.D)) return problem("force", f, "D2", "bore " + num(s.D2) + " must be >= rod diameter D = " + num(s.D));
+    if (!(s.n > 1)) return problem("force", f, "n", "polytropic exponent " + num(s.n) + " must be > 1");
+    if (!(s.mu >= 0)) return problem("force", f, "mu", "value " + num(s.mu) + " must be >= 0");
+    if (!(s.pAtm >= 0 && s.pAtm < s.p01))
+      return problem("force", f, "p_atm", "value " + num(s.pAtm) + " must be >= 0 and < p01 = " + num(s.p01) +
+                                             " (the gas must push the rod out)");
+    if (s.declaresReboundOrifice()) {
+      if (auto p = positive(f, "f2", s.f2)) return p;
+      if (auto p = positive(f, "xi2", s.xi2)) return p;
+      if (!(s.D2 > s.D)) return problem("force", f, "D2", "a rebound orifice f2 needs an annular chamber: D2 > D");
+    }
+    // Fully extended at touchdown.
+    const Vec3<double> B = w_.kin[s.bi].point(s.rho_i), C = w_.kin[s.bj].point(s.rho_j);
+    const double dist = (B - C).norm();
+    if (std::abs(s.L0 - dist) > 1e-6)
+      return problem("force", f, "L0", "value " + num(s.L0) + " m differs from the distance of rod_point and cylinder_point at touchdown, " +
+                                           num(dist) + " m: the strut starts fully extended (s = 0); leave L0 out or correct the points");
+    // The stroke it can reach: its bottoming stop's S_max, else the stroke that would exhaust the gas
+    // (or L0). The gas must outlast the bottoming stroke, and a table cover the reach.
+    const double F = M_PI * s.D * s.D / 4;
+    double reach = std::min(s.L0, s.Omega0 / F);
+    int k = -1;
+    for (size_t j = 0; j < sc_.roles.stops.size(); ++j) {
+      const auto& st = std::get<DistanceStop<double>>(m_.constraints[sc_.roles.stops[j]].type);
+      if (!st.noFarther && samePair(st.bi, st.rho_i, st.bj, st.rho_j, s.bi, s.rho_i, s.bj, s.rho_j)) k = static_cast<int>(j);
+    }
+    const size_t index = std::find(sc_.roles.struts.begin(), sc_.roles.struts.end(), f) - sc_.roles.struts.begin();
+    if (k >= 0) {
+      const int ci = sc_.roles.stops[k];
+      const auto& st = std::get<DistanceStop<double>>(m_.constraints[ci].type);
+      const double S = s.L0 - st.L;
+      if (!(S > 0))
+        return problem("force", f, "L0", "the bottoming stop '" + m_.constraints[ci].name + "' (min_distance " + num(st.L) +
+                                             " m) is not shorter than the extended strut, L0 = " + num(s.L0) + " m");
+      if (!(s.Omega0 > F * S))
+        return problem("force", f, "Omega0", "gas volume " + num(s.Omega0) + " m^3 must be larger than the volume swept at the "
+                                             "bottoming stroke, F S_max = " + num(F * S) + " m^3 (F = pi D^2/4 = " + num(F) +
+                                             " m^2, S_max = " + num(S) + " m at stop '" + m_.constraints[ci].name + "')");
+      reach = std::min(reach, S);
+      if (index < sc_.roles.struts.size()) {
+        sc_.roles.strokeLimits[index] = S;
+        sc_.roles.bottomingStops[index] = ci;
+      }
+    }
+    if (s.f1Table && s.f1Table->xMax() < reach - 1e-12)
+      return problem("force", f, "f1_table", "table ends at stroke " + num(s.f1Table->xMax()) + " m but the strut can reach " +
+                                                 num(reach) + " m");
+    return std::nullopt;
+  }
+
+  std::optional<SceneProblem> tyre(int f, const Tyre<double>& t) const {
+    for (const auto& [key, v] : {std::pair<const char*, double>{"radius", t.radius}, {"K", t.K}, {"delta_max", t.deltaMax}})
+      if (auto p = positive(f, key, v)) return p;
+    if (!(t.alpha >= 0)) return problem("force", f, "alpha", "value " + num(t.alpha) + " must be >= 0");
+    const double clearance = t.normal.dot(w_.kin[t.body].point(t.rho)) - t.groundHeight;  // wheel centre above the ground
+    if (t.radius - clearance > 1e-6)
+      return problem("force", f, "radius", "the tyre is pressed " + num(t.radius - clearance) + " m into the ground at touchdown (radius " +
+                                               num(t.radius) + " m, wheel centre " + num(clearance) +
+                                               " m above the ground): at t = 0 it must just touch the ground or clear it");
+    return std::nullopt;
+  }
+
+  std::optional<SceneProblem> springDamper(int f, const SpringDamper<double>& d) const {
+    for (const auto& [key, v] : {std::pair<const char*, double>{"k", d.k}, {"c", d.c}, {"L0", d.L0}})
+      if (!(v >= 0)) return problem("force", f, key, "value " + num(v) + " must be >= 0");
+    return std::nullopt;
+  }
+
+  Scene& sc_;
+  const Model<double>& m_;
+  Workspace<double> w_;
+};
+
+}  // namespace
+
+std::optional<SceneProblem> checkScene(Scene& scene) { return Checker(scene).run(); }
+
+std::string describe(const Scene& scene, const SceneProblem& p) {
+  std::string element = p.array + "[" + std::to_string(p.index) + "]";
+  const Model<double>& m = scene.model;
+  if (p.array == "body" && p.index < m.nBodies()) element = m.bodies[p.index].name;
+  else if (p.array == "force" && p.index < static_cast<int>(m.forces.size())) element = m.forces[p.index].name;
+  else if (p.array == "stop" && p.index < static_cast<int>(scene.roles.stops.size()))
+    element = m.constraints[scene.roles.stops[p.index]].name;
+  else if (p.array == "case" && p.index < static_cast<int>(scene.cases.size())) element = scene.cases[p.index].name;
+  return element + "." + p.key + ": " + p.rule;
+}
+
+}  // namespace lg
