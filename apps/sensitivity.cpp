@@ -1,0 +1,178 @@
+// sensitivity STUDY [--out DIR] [--threads N] [--method local|morris|sobol|all] [--samples N] [--seed S]
+//             [--no-plots] [--quiet]
+// Local, Morris and Sobol sensitivities of a study's metrics to its variables (optim/sensitivity.hpp),
+// written to DIR (optim/sensitivity_report.hpp). Under an MPI launcher (mpirun -n K sensitivity ...)
+// the runs are spread over the ranks and rank 0 writes exactly what one process writes. Exit status:
+// 0 done, 2 bad input (nothing written), 1 other errors.
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include <omp.h>
+
+#include <CLI/CLI.hpp>
+
+#include "optim/sensitivity.hpp"
+#include "optim/sensitivity_report.hpp"
+#include "optim/study.hpp"
+#include "sim/metrics.hpp"
+#ifdef LG_HAVE_MPI
+#include "uq/mpi.hpp"
+#endif
+
+namespace {
+
+struct Cli {
+  std::string study, out, method;
+  int threads = 0, samples = 0;
+  long long seed = -1;
+  bool noPlots = false, quiet = false;
+};
+
+// Applies the command line to the study's [sensitivity]; returns the rule broken, or "".
+std::string applyCli(const Cli& c, lg::optim::SensitivitySettings& g) {
+  if (!c.method.empty()) {
+    g.local = c.method == "local" || c.method == "all";
+    g.morris = c.method == "morris" || c.method == "all";
+    g.sobol = c.method == "sobol" || c.method == "all";
+    if (!g.local && !g.morris && !g.sobol)
+      return "--method: value '" + c.method + "' must be local, morris, sobol or all";
+  }
+  if (c.samples != 0) {
+    if (c.samples < 8 || c.samples > (1 << 20) || (c.samples & (c.samples - 1)) != 0)
+      return "--samples: value " + std::to_string(c.samples) + " must be a power of two in [8, 2^20]";
+    g.samples = c.samples;
+  }
+  if (c.seed >= 0) g.seed = static_cast<unsigned long long>(c.seed);
+  return "";
+}
+
+// "peak_load@cert-reserve: strut.f1 (ST 0.61), ..." lines: the largest driver per method.
+void printSummary(const lg::optim::Study& s, const lg::optim::SensitivityResult& r) {
+  std::printf("%-36s %-26s %-26s %-26s\n", "output", "largest |elasticity|", "largest mu*", "largest ST");
+  auto best = [&](const std::vector<double>& v, bool absolute) {
+    int k = -1;
+    for (size_t i = 0; i < v.size(); ++i)
+      if (std::isfinite(v[i]) && (k < 0 || (absolute ? std::abs(v[i]) > std::abs(v[k]) : v[i] > v[k]))) k = static_cast<int>(i);
+    if (k < 0) return std::string("-");
+    char b[80];
+    std::snprintf(b, sizeof b, "%s %.3g", s.variables[k].path.c_str(), v[k]);
+    return std::string(b);
+  };
+  for (size_t j = 0; j < r.outputs.size(); ++j)
+    std::printf("%-36s %-26s %-26s %-26s\n", r.outputs[j].label().c_str(),
+                r.local ? best(r.local->outputs[j].E, true).c_str() : "-",
+                r.morris ? best(r.morris->outputs[j].muStar, false).c_str() : "-",
+                r.sobol ? best(r.sobol->outputs[j].ST, false).c_str() : "-");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::unique_ptr<lg::uq::Communicator> comm;
+#ifdef LG_HAVE_MPI
+  lg::uq::MpiCommunicator* mpi = nullptr;
+  if (lg::uq::launchedByMpi()) {
+    auto m = std::make_unique<lg::uq::MpiCommunicator>(&argc, &argv);
+    mpi = m.get();
+    comm = std::move(m);
+  }
+#endif
+  if (!comm) comm = std::make_unique<lg::uq::SingleProcess>();
+  const bool root = comm->rank() == 0;
+  auto fail = [&](int status) {  // one rank alone in trouble must not leave the others waiting
+#ifdef LG_HAVE_MPI
+    if (mpi && mpi->size() > 1) mpi->abort(status);
+#endif
+    return status;
+  };
+
+  CLI::App app{"Local, Morris and Sobol sensitivities of a gear study (see optim/sensitivity.hpp)"};
+  Cli c;
+  app.add_option("study", c.study, "study file (TOML, .cfg or .toml): variables, ranges, cases, [sensitivity]")->required();
+  app.add_option("--out", c.out, "output directory (default: <study stem>-sensitivity in the current directory)");
+  app.add_option("--threads", c.threads, "OpenMP threads per process (default: the cores this process may use)")
+      ->check(CLI::Range(1, 1024));
+  app.add_option("--method", c.method, "local, morris, sobol or all (default: [sensitivity] methods, else all)");
+  app.add_option("--samples", c.samples, "Sobol base sample N, a power of two (default: [sensitivity] samples)");
+  app.add_option("--seed", c.seed, "seed of the Sobol shift, the Morris trajectories and the bootstraps")
+      ->check(CLI::Range(0LL, 9223372036854775807LL));
+  app.add_flag("--no-plots", c.noPlots, "skip gnuplot (the data and scripts are still written)");
+  app.add_flag("--quiet", c.quiet, "no progress line or summary");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return root ? app.exit(e) : 0;
+  } catch (const CLI::ParseError& e) {
+    if (root) app.exit(e);
+    return 2;
+  }
+
+  lg::optim::Study study;
+  lg::optim::SensitivitySettings settings;
+  try {
+    study = lg::optim::loadStudy(c.study);
+    settings = study.sensitivity;
+    if (const std::string rule = applyCli(c, settings); !rule.empty()) {
+      if (root) std::cerr << "sensitivity: " << rule << "\n";
+      return 2;
+    }
+    lg::optim::checkSensitivity(study, settings);
+  } catch (const std::exception& e) {
+    if (root) std::cerr << "sensitivity: " << e.what() << "\n";
+    return 2;
+  }
+  if (c.out.empty()) c.out = std::filesystem::path(c.study).stem().string() + "-sensitivity";
+  const int threads = c.threads > 0 ? c.threads : std::max(1, omp_get_num_procs());
+  const bool tty = root && !c.quiet && isatty(fileno(stderr));
+
+  lg::optim::SensitivityOptions o;
+  o.threads = threads;
+  o.comm = comm.get();
+  const auto t0 = std::chrono::steady_clock::now();
+  double lastPrint = -1;
+  if (tty)
+    o.progress = [&](const std::string& method, std::size_t done, std::size_t mine) {
+      const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      if (t - lastPrint < 0.2 && done < mine) return;
+      lastPrint = t;
+      std::fprintf(stderr, "\r  %-7s %6zu / %zu designs (rank 0)   elapsed %7.1f s   ", method.c_str(), done, mine, t);
+      std::fflush(stderr);
+    };
+  lg::optim::SensitivityResult r;
+  try {
+    r = lg::optim::runSensitivity(study, settings, o);
+  } catch (const std::exception& e) {
+    std::cerr << "sensitivity: rank " << comm->rank() << ": " << e.what() << "\n";
+    return fail(1);
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (tty) std::fprintf(stderr, "\n");
+  if (!root) return 0;
+  lg::optim::SensitivityFiles files;
+  try {
+    files = lg::optim::writeSensitivity(study, r, c.out, !c.noPlots);
+  } catch (const std::exception& e) {
+    std::cerr << "sensitivity: " << e.what() << "\n";
+    return fail(1);
+  }
+  const size_t shown = 10;
+  for (size_t k = 0; k < files.warnings.size() && k < shown; ++k)
+    std::cerr << "sensitivity: warning: " << files.warnings[k] << "\n";
+  if (files.warnings.size() > shown)
+    std::cerr << "sensitivity: warning: ... " << files.warnings.size() - shown << " more in report.md\n";
+  if (!c.quiet) {
+    printSummary(study, r);
+    const int cores = comm->size() * threads;
+    std::printf("%s: %zu designs, %zu drops in %.1f s on %d process(es) x %d thread(s): %.1f drops/s, %.1f per core\n",
+                study.name.c_str(), r.designs, r.drops, wall, comm->size(), threads, r.drops / wall, r.drops / wall / cores);
+    std::printf("  wrote %s/{report.md,indices.json,indices_*.csv,samples_*.csv%s}\n", c.out.c_str(),
+                r.sobol ? ",convergence_sobol.csv" : "");
+  }
+  return 0;
+}
