@@ -46,7 +46,7 @@ std::string outputHead(const SensitivityOutput& o) {
          jsonString(o.unit);
 }
 
-void localJson(std::ostringstream& j, const Study& s, const SensitivityResult& r) {
+void localJson(std::ostream& j, const Study& s, const SensitivityResult& r) {
   const LocalStudy& L = *r.local;
   j << "  \"local\": {\"derivative_source\": " << jsonString(derivativeSource(r.settings)) << ", \"h\": "
     << jsonNumber(L.h) << ", \"runs\": " << L.runs.size() << ", \"failures\": " << failuresJson(r.localFailures, r)
@@ -64,7 +64,7 @@ void localJson(std::ostringstream& j, const Study& s, const SensitivityResult& r
   j << "    ]}";
 }
 
-void morrisJson(std::ostringstream& j, const Study& s, const SensitivityResult& r) {
+void morrisJson(std::ostream& j, const Study& s, const SensitivityResult& r) {
   const MorrisStudy& M = *r.morris;
   j << "  \"morris\": {\"levels\": " << M.design.levels << ", \"delta\": " << jsonNumber(M.design.delta)
     << ", \"trajectories\": " << M.design.r << ", \"runs\": " << M.runs.size() << ", \"bootstrap\": {\"resamples\": "
@@ -83,7 +83,7 @@ void morrisJson(std::ostringstream& j, const Study& s, const SensitivityResult& 
   j << "    ]}";
 }
 
-void sobolJson(std::ostringstream& j, const Study& s, const SensitivityResult& r) {
+void sobolJson(std::ostream& j, const Study& s, const SensitivityResult& r) {
   const SobolStudy& S = *r.sobol;
   const std::size_t d = s.variables.size();
   j << "  \"sobol\": {\"N\": " << S.design.n << ", \"runs\": " << S.runs.size() << ", \"runs_formula\": \"N(d+2)\""
