@@ -200,12 +200,22 @@ Figure tornadoFigure(const Study& s, const SensitivityResult& r, const std::stri
   Figure f;
   f.stem = "tornado_" + safeFileStem(metric);
   f.title = "Local sensitivities of " + metric + ": elasticity d ln f / d ln x (" + derivativeSource(r.settings) + ")";
-  f.setup = "set xlabel 'elasticity [-]'\nset style fill solid 0.8 border -1\nset xzeroaxis\nset grid x\n";
+  f.setup = "set xlabel 'elasticity [-]'\nset style fill solid 0.8 border -1\nset grid x\nset yzeroaxis lt -1\n";
   f.panel = "plot 'DATA' index @I@ using (0):0:(($2<0)?$2:0):(($2<0)?0:$2):($0-0.35):($0+0.35):ytic(1) "
             "with boxxyerror lc rgb '#1f77b4' notitle";
-  for (std::size_t k : outputsOf(r, metric)) {
-    f.data += "# " + r.outputs[k].caseName + ": variable elasticity[-]\n";
-    for (std::size_t i = 0; i < s.variables.size(); ++i)
+  // A tornado: the variables by their largest |E| over the cases, the largest on top.
+  const auto ks = outputsOf(r, metric);
+  std::vector<std::pair<double, std::size_t>> order;
+  for (std::size_t i = 0; i < s.variables.size(); ++i) {
+    double big = 0;
+    for (std::size_t k : ks)
+      if (std::isfinite(r.local->outputs[k].E[i])) big = std::max(big, std::abs(r.local->outputs[k].E[i]));
+    order.push_back({big, i});
+  }
+  std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (std::size_t k : ks) {
+    f.data += "# " + r.outputs[k].caseName + ": variable elasticity[-] (by the largest |elasticity| of any case)\n";
+    for (const auto& [big, i] : order)
       f.data += dataString(s.variables[i].path) + " " + plotNumber(r.local->outputs[k].E[i]) + "\n";
     f.data += "\n\n";
   }
@@ -218,8 +228,8 @@ Figure morrisFigure(const Study& s, const SensitivityResult& r, const std::strin
   f.stem = "morris_" + safeFileStem(metric);
   f.title = "Morris screening of " + metric + ": mu* against sigma (elementary effects per range of the variable)";
   f.setup = "set xlabel 'mu* [" + unit + "]'\nset ylabel 'sigma [" + unit + "]'\nset grid\nset xrange [0:*]\nset yrange [0:*]\n";
-  f.panel = "plot 'DATA' index @I@ using 2:4:3:5 with xerrorbars pt 7 lc rgb '#1f77b4' notitle, "
-            "'' index @I@ using 2:4:1 with labels offset 0.8,0.6 left font ',8' notitle";
+  f.panel = "plot 'DATA' index @I@ using 2:5:3:4 with xerrorbars pt 7 lc rgb '#1f77b4' notitle, "
+            "'' index @I@ using 2:5:1 with labels offset 0.8,0.6 left font ',8' notitle";
   for (std::size_t k : outputsOf(r, metric)) {
     const uq::MorrisIndices& m = r.morris->outputs[k];
     f.data += "# " + r.outputs[k].caseName + ": variable mu*[" + unit + "] mu*_lo mu*_hi sigma[" + unit + "]\n";
@@ -235,7 +245,7 @@ Figure sobolFigure(const Study& s, const SensitivityResult& r, const std::string
   Figure f;
   f.stem = "sobol_" + safeFileStem(metric);
   f.title = "Sobol indices of " + metric + ": first order S1 and total ST with their bootstrap intervals";
-  f.setup = "set xlabel 'index [-]'\nset style fill solid 0.8 border -1\nset grid x\nset xrange [0:1]\nset key bottom right\n";
+  f.setup = "set xlabel 'index [-]'\nset style fill solid 0.8 border -1\nset grid x\nset xrange [0:1]\nset key below horizontal\n";
   f.panel = "plot 'DATA' index @I@ using (0):($0+0.18):(0):2:($0+0.02):($0+0.34):ytic(1) with boxxyerror lc rgb '#1f77b4' title 'S1', "
             "'' index @I@ using 2:($0+0.18):3:4 with xerrorbars pt 0 lc rgb 'black' notitle, "
             "'' index @I@ using (0):($0-0.18):(0):5:($0-0.34):($0-0.02) with boxxyerror lc rgb '#ff7f0e' title 'ST', "
@@ -256,9 +266,10 @@ Figure sobolFigure(const Study& s, const SensitivityResult& r, const std::string
 std::string figureScript(const Figure& f, const SensitivityResult& r) {
   const std::size_t nc = r.settings.cases.size();
   std::ostringstream g;
-  g << "set terminal pngcairo size " << 420 * nc + 120 << "," << 140 + 36 * 10 << " noenhanced\n";
+  g << "reset\nset terminal pngcairo size " << 420 * nc + 120 << "," << 140 + 36 * 10 << " noenhanced\n";
   g << "set output '" << f.stem << ".png'\n";
   g << "set multiplot layout 1," << nc << " title " << gpString(f.title) << "\n" << f.setup;
+  g << "set xtics rotate by -30 font ',9'\nset format x '%g'\n";
   for (std::size_t c = 0; c < nc; ++c) {
     std::string p = f.panel;
     for (std::size_t at; (at = p.find("@I@")) != std::string::npos;) p.replace(at, 3, std::to_string(c));
