@@ -204,7 +204,7 @@ TEST_CASE("sensitivity: local elasticities on the seed gear against an independe
 
 // Omega0 down to 1.1e-3 m^3, below the volume swept at the bottoming stroke (1.2566e-3 m^3): the scene
 // rejects those designs, and the study must count them and keep them out of every estimate.
-TEST_CASE("sensitivity: failed runs are counted, located and dropped by whole Sobol blocks; 1 and 2 threads give the same bits",
+TEST_CASE("sensitivity: failed runs are counted, located and dropped by whole Sobol blocks, and 1 and 2 threads give the same bits",
           "[optim][sensitivity][seed]") {
   const std::string text = "scene = \"" + kScene + "\"\n[solver]\nintegrator = \"ros34pw2\"\nrtol = 3e-3\n"
                            "[[variable]]\npath = \"strut.Omega0\"\nlower = 1.1e-3\nupper = 1.6e-3\ninitial = 1.3e-3\n"

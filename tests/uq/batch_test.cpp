@@ -92,7 +92,7 @@ TEST_CASE("batch: outcomes in run order, the same bits on 1 and 2 threads and on
   }
 }
 
-TEST_CASE("batch: ranges cover the runs once; a throwing or short model is a failed run", "[uq][batch]") {
+TEST_CASE("batch: ranges cover the runs once, and a throwing or short model is a failed run", "[uq][batch]") {
   std::size_t covered = 0, last = 0;
   for (int q = 0; q < 3; ++q) {
     std::size_t b, e;
