@@ -71,6 +71,56 @@ void printSummary(const lg::optim::Study& s, const lg::optim::SensitivityResult&
                 r.sobol ? best(r.sobol->outputs[j].ST, false).c_str() : "-");
 }
 
+// The command line: 0 to go on, otherwise the exit status (help: 0 after printing, bad usage: 2).
+int parseCommandLine(int argc, char** argv, bool root, Cli& c) {
+  CLI::App app{"Local, Morris and Sobol sensitivities of a gear study (see optim/sensitivity.hpp)"};
+  app.add_option("study", c.study, "study file (TOML, .cfg or .toml): variables, ranges, cases, [sensitivity]")->required();
+  app.add_option("--out", c.out, "output directory (default: <study stem>-sensitivity in the current directory)");
+  app.add_option("--threads", c.threads, "OpenMP threads per process (default: the cores this process may use)")
+      ->check(CLI::Range(1, 1024));
+  app.add_option("--method", c.method, "local, morris, sobol or all (default: [sensitivity] methods, else all)");
+  app.add_option("--samples", c.samples, "Sobol base sample N, a power of two (default: [sensitivity] samples)");
+  app.add_option("--seed", c.seed, "seed of the Sobol shift, the Morris trajectories and the bootstraps")
+      ->check(CLI::Range(0LL, 9223372036854775807LL));
+  app.add_flag("--no-plots", c.noPlots, "skip gnuplot (the data and scripts are still written)");
+  app.add_flag("--quiet", c.quiet, "no progress line or summary");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    if (root) app.exit(e);
+    return -1;
+  } catch (const CLI::ParseError& e) {
+    if (root) app.exit(e);
+    return 2;
+  }
+  return 0;
+}
+
+// Writes the outputs and prints the summary (rank 0); returns the exit status.
+int finish(const Cli& c, const lg::optim::Study& study, const lg::optim::SensitivityResult& r, int ranks, int threads,
+           double wall) {
+  lg::optim::SensitivityFiles files;
+  try {
+    files = lg::optim::writeSensitivity(study, r, c.out, !c.noPlots);
+  } catch (const std::exception& e) {
+    std::cerr << "sensitivity: " << e.what() << "\n";
+    return 1;
+  }
+  const size_t shown = 10;
+  for (size_t k = 0; k < files.warnings.size() && k < shown; ++k)
+    std::cerr << "sensitivity: warning: " << files.warnings[k] << "\n";
+  if (files.warnings.size() > shown)
+    std::cerr << "sensitivity: warning: ... " << files.warnings.size() - shown << " more in report.md\n";
+  if (c.quiet) return 0;
+  printSummary(study, r);
+  const int cores = ranks * threads;
+  std::printf("%s: %zu designs, %zu drops in %.1f s on %d process(es) x %d thread(s): %.1f drops/s, %.1f per core\n",
+              study.name.c_str(), r.designs, r.drops, wall, ranks, threads, r.drops / wall, r.drops / wall / cores);
+  std::printf("  wrote %s/{report.md,indices.json,indices_*.csv,samples_*.csv%s}\n", c.out.c_str(),
+              r.sobol ? ",convergence_sobol.csv" : "");
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -92,27 +142,9 @@ int main(int argc, char** argv) {
     return status;
   };
 
-  CLI::App app{"Local, Morris and Sobol sensitivities of a gear study (see optim/sensitivity.hpp)"};
   Cli c;
-  app.add_option("study", c.study, "study file (TOML, .cfg or .toml): variables, ranges, cases, [sensitivity]")->required();
-  app.add_option("--out", c.out, "output directory (default: <study stem>-sensitivity in the current directory)");
-  app.add_option("--threads", c.threads, "OpenMP threads per process (default: the cores this process may use)")
-      ->check(CLI::Range(1, 1024));
-  app.add_option("--method", c.method, "local, morris, sobol or all (default: [sensitivity] methods, else all)");
-  app.add_option("--samples", c.samples, "Sobol base sample N, a power of two (default: [sensitivity] samples)");
-  app.add_option("--seed", c.seed, "seed of the Sobol shift, the Morris trajectories and the bootstraps")
-      ->check(CLI::Range(0LL, 9223372036854775807LL));
-  app.add_flag("--no-plots", c.noPlots, "skip gnuplot (the data and scripts are still written)");
-  app.add_flag("--quiet", c.quiet, "no progress line or summary");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return root ? app.exit(e) : 0;
-  } catch (const CLI::ParseError& e) {
-    if (root) app.exit(e);
-    return 2;
-  }
-
+  if (const int status = parseCommandLine(argc, argv, root, c)) return status < 0 ? 0 : status;
+  // Every rank reads and checks the input: bad input stops them all alike, before anything is written.
   lg::optim::Study study;
   lg::optim::SensitivitySettings settings;
   try {
@@ -154,25 +186,6 @@ int main(int argc, char** argv) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (tty) std::fprintf(stderr, "\n");
   if (!root) return 0;
-  lg::optim::SensitivityFiles files;
-  try {
-    files = lg::optim::writeSensitivity(study, r, c.out, !c.noPlots);
-  } catch (const std::exception& e) {
-    std::cerr << "sensitivity: " << e.what() << "\n";
-    return fail(1);
-  }
-  const size_t shown = 10;
-  for (size_t k = 0; k < files.warnings.size() && k < shown; ++k)
-    std::cerr << "sensitivity: warning: " << files.warnings[k] << "\n";
-  if (files.warnings.size() > shown)
-    std::cerr << "sensitivity: warning: ... " << files.warnings.size() - shown << " more in report.md\n";
-  if (!c.quiet) {
-    printSummary(study, r);
-    const int cores = comm->size() * threads;
-    std::printf("%s: %zu designs, %zu drops in %.1f s on %d process(es) x %d thread(s): %.1f drops/s, %.1f per core\n",
-                study.name.c_str(), r.designs, r.drops, wall, comm->size(), threads, r.drops / wall, r.drops / wall / cores);
-    std::printf("  wrote %s/{report.md,indices.json,indices_*.csv,samples_*.csv%s}\n", c.out.c_str(),
-                r.sobol ? ",convergence_sobol.csv" : "");
-  }
-  return 0;
+  const int status = finish(c, study, r, comm->size(), threads, wall);
+  return status == 0 ? 0 : fail(status);
 }
