@@ -209,17 +209,18 @@ TEST_CASE("sensitivity: failed runs are counted, located and dropped by whole So
   const std::string text = "scene = \"" + kScene + "\"\n[solver]\nintegrator = \"ros34pw2\"\nrtol = 3e-3\n"
                            "[[variable]]\npath = \"strut.Omega0\"\nlower = 1.1e-3\nupper = 1.6e-3\ninitial = 1.3e-3\n"
                            "[[variable]]\npath = \"strut.f1\"\nlower = 5e-5\nupper = 1e-4\n"
+                           "[[variable]]\npath = \"light.sink_speed\"\nlower = 1.5\nupper = 2.5\n"  // not a case of interest
                            "[[case]]\nname = \"cert-limit-landing\"\n"
                            "[sensitivity]\nmetrics = [\"peak_load\", \"stroke\"]\ntrajectories = 4\nsamples = 16\n";
   const Study s = loadStudy(write("fail.cfg", text));
   const SensitivityResult r1 = runSensitivity(s, s.sensitivity, SensitivityOptions{1, nullptr, {}});
   const SensitivityResult r2 = runSensitivity(s, s.sensitivity, SensitivityOptions{2, nullptr, {}});
   REQUIRE(r1.sobol);
-  CHECK(r1.sobol->runs.size() == 16 * 4);
-  CHECK(r1.designs == 5 + 4 * 3 + 16 * 4);
+  CHECK(r1.sobol->runs.size() == 16 * 5);
+  CHECK(r1.designs == 7 + 4 * 4 + 16 * 5);
   const MethodFailures& f = r1.sobolFailures;
   CHECK(f.runs > 0);
-  CHECK(f.runs < 32);
+  CHECK(f.runs < 40);
   CHECK(f.perCase == std::vector<std::size_t>{f.runs});
   REQUIRE_FALSE(f.list.empty());
   CHECK(f.list[0].message.find("the scene rejects the design") != std::string::npos);
@@ -227,17 +228,31 @@ TEST_CASE("sensitivity: failed runs are counted, located and dropped by whole So
   // every failed run's block is dropped from both outputs, the rest estimated without a NaN
   const lg::uq::SobolIndices& x = r1.sobol->outputs[0];
   for (const auto& run : f.list)
-    CHECK(std::find(x.dropped.begin(), x.dropped.end(), lg::uq::saltelliBlock(run.run, 2)) != x.dropped.end());
+    CHECK(std::find(x.dropped.begin(), x.dropped.end(), lg::uq::saltelliBlock(run.run, 3)) != x.dropped.end());
   REQUIRE(x.estimated);
   for (std::size_t i = 0; i < 2; ++i) {
     CHECK(std::isfinite(x.S1[i]));
     CHECK(std::isfinite(x.ST[i]));
     CHECK(std::isfinite(x.STci[i].lo));
   }
+  // a variable no output depends on (the sink speed of a case not of interest): 0 with a zero-width
+  // interval, in every output and method
+  for (std::size_t k = 0; k < 2; ++k) {
+    const lg::uq::SobolIndices& y = r1.sobol->outputs[k];
+    CHECK(y.S1[2] == 0.0);
+    CHECK(y.ST[2] == 0.0);
+    CHECK(y.S1ci[2].lo == 0.0);
+    CHECK(y.S1ci[2].hi == 0.0);
+    CHECK(y.STci[2].lo == 0.0);
+    CHECK(y.STci[2].hi == 0.0);
+    CHECK(r1.morris->outputs[k].muStar[2] == 0.0);
+    CHECK(r1.morris->outputs[k].muStarCi[2].hi == 0.0);
+    CHECK(r1.local->outputs[k].E[2] == 0.0);
+  }
   CHECK(r1.localFailures.runs == 0);  // the baseline and its neighbours are physical
   const std::string json = sensitivityJson(s, r1);
   CHECK(json.find("\"blocks_dropped\": [") != std::string::npos);
-  CHECK(sensitivityMarkdown(s, r1, "").find("| sobol | 64 | " + std::to_string(f.runs) + " |") != std::string::npos);
+  CHECK(sensitivityMarkdown(s, r1, "").find("| sobol | 80 | " + std::to_string(f.runs) + " |") != std::string::npos);
   // the same bits on 2 threads: every index and every sample
   CHECK(sensitivityJson(s, r2) == json);
   for (const char* m : {"local", "morris", "sobol"}) {
