@@ -138,71 +138,81 @@ uq::Outcome evaluateSensitivityDesign(const Study& s, const SensitivitySettings&
   return out;
 }
 
+namespace {
+
+void runLocal(const Study& s, const SensitivitySettings& g, const SensitivityOptions& o, uq::Communicator& comm,
+              SensitivityResult& r) {
+  LocalStudy L;
+  for (const auto& v : s.variables) L.x0.push_back(v.initial);
+  L.h = g.step;
+  L.points = uq::localDesign(L.x0, L.h);
+  L.runs = runDesigns(s, g, L.points, r.outputs.size(), "local", o, comm);
+  for (std::size_t j = 0; j < r.outputs.size(); ++j)
+    L.outputs.push_back(uq::elasticities(L.x0, L.h, outputColumn(L.runs, j)));
+  r.localFailures = failures(L.runs, r.outputs, g.cases.size(), [&](std::size_t k) {
+    if (k == 0) return std::string("baseline");
+    return s.variables[(k - 1) / 2].path + ((k - 1) % 2 == 0 ? " +h" : " -h");
+  });
+  r.local = std::move(L);
+}
+
+void runMorris(const Study& s, const SensitivitySettings& g, const SensitivityOptions& o, uq::Communicator& comm,
+               SensitivityResult& r) {
+  const std::size_t d = s.variables.size();
+  MorrisStudy M;
+  M.design = uq::morrisDesign(static_cast<std::size_t>(g.trajectories), d, g.levels, uq::streamSeed(g.seed, kMorrisDesign));
+  M.points = physicalPoints(s, M.design.points);
+  M.runs = runDesigns(s, g, M.points, r.outputs.size(), "morris", o, comm);
+  const uq::BootstrapOptions bo{g.resamples, g.confidence, uq::streamSeed(g.seed, kMorrisBootstrap)};
+  for (std::size_t j = 0; j < r.outputs.size(); ++j)
+    M.outputs.push_back(uq::morrisIndices(M.design, outputColumn(M.runs, j), bo));
+  r.morrisFailures = failures(M.runs, r.outputs, g.cases.size(), [&](std::size_t k) {
+    return "trajectory " + std::to_string(k / (d + 1)) + " point " + std::to_string(k % (d + 1));
+  });
+  r.morris = std::move(M);
+}
+
+void runSobol(const Study& s, const SensitivitySettings& g, const SensitivityOptions& o, uq::Communicator& comm,
+              SensitivityResult& r) {
+  const std::size_t d = s.variables.size(), K = r.outputs.size(), N = static_cast<std::size_t>(g.samples);
+  SobolStudy S;
+  S.design = uq::saltelliDesign(N, d, uq::streamSeed(g.seed, kSobolShift));
+  S.points = physicalPoints(s, S.design.points);
+  S.runs = runDesigns(s, g, S.points, K, "sobol", o, comm);
+  const uq::BootstrapOptions bo{g.resamples, g.confidence, uq::streamSeed(g.seed, kSobolBootstrap)};
+  std::vector<std::vector<double>> ys;
+  for (std::size_t j = 0; j < K; ++j) ys.push_back(outputColumn(S.runs, j));
+  for (std::size_t j = 0; j < K; ++j) S.outputs.push_back(uq::sobolIndices(ys[j], N, d, bo));
+  for (std::size_t n = N / 8; n <= N; n *= 2) {  // the convergence table: prefixes of the blocks
+    if (n < 4) continue;
+    S.convergenceN.push_back(n);
+    std::vector<uq::SobolIndices> level;
+    for (std::size_t j = 0; j < K; ++j) level.push_back(uq::sobolIndices(ys[j], N, d, uq::BootstrapOptions{0, 0.95, 0}, n));
+    S.convergence.push_back(std::move(level));
+  }
+  r.sobolFailures = failures(S.runs, r.outputs, g.cases.size(), [&](std::size_t k) {
+    const std::size_t m = uq::saltelliMatrix(k, d);
+    return "block " + std::to_string(uq::saltelliBlock(k, d)) + " " +
+           (m == 0 ? std::string("A") : m == 1 ? std::string("B") : "AB^" + std::to_string(m - 1) + " (" + s.variables[m - 2].path + ")");
+  });
+  r.sobol = std::move(S);
+}
+
+}  // namespace
+
 SensitivityResult runSensitivity(const Study& s, const SensitivitySettings& g, const SensitivityOptions& o) {
   uq::SingleProcess single;
   uq::Communicator& comm = o.comm ? *o.comm : single;
   SensitivityResult r;
   r.settings = g;
   r.outputs = sensitivityOutputs(s, g);
-  const std::size_t d = s.variables.size(), K = r.outputs.size(), nc = g.cases.size();
-  auto count = [&](std::size_t designs) {
+  if (g.local) runLocal(s, g, o, comm, r);
+  if (g.morris) runMorris(s, g, o, comm, r);
+  if (g.sobol) runSobol(s, g, o, comm, r);
+  for (std::size_t designs : {r.local ? r.local->runs.size() : 0, r.morris ? r.morris->runs.size() : 0,
+                              r.sobol ? r.sobol->runs.size() : 0}) {
     r.designs += designs;
-    r.drops += designs * nc;
-  };
-
-  if (g.local) {
-    LocalStudy L;
-    for (const auto& v : s.variables) L.x0.push_back(v.initial);
-    L.h = g.step;
-    L.points = uq::localDesign(L.x0, L.h);
-    L.runs = runDesigns(s, g, L.points, K, "local", o, comm);
-    count(L.runs.size());
-    for (std::size_t j = 0; j < K; ++j) L.outputs.push_back(uq::elasticities(L.x0, L.h, outputColumn(L.runs, j)));
-    r.localFailures = failures(L.runs, r.outputs, nc, [&](std::size_t k) {
-      if (k == 0) return std::string("baseline");
-      return s.variables[(k - 1) / 2].path + ((k - 1) % 2 == 0 ? " +h" : " -h");
-    });
-    r.local = std::move(L);
-  }
-
-  if (g.morris) {
-    MorrisStudy M;
-    M.design = uq::morrisDesign(static_cast<std::size_t>(g.trajectories), d, g.levels, uq::streamSeed(g.seed, kMorrisDesign));
-    M.points = physicalPoints(s, M.design.points);
-    M.runs = runDesigns(s, g, M.points, K, "morris", o, comm);
-    count(M.runs.size());
-    uq::BootstrapOptions bo{g.resamples, g.confidence, uq::streamSeed(g.seed, kMorrisBootstrap)};
-    for (std::size_t j = 0; j < K; ++j) M.outputs.push_back(uq::morrisIndices(M.design, outputColumn(M.runs, j), bo));
-    r.morrisFailures = failures(M.runs, r.outputs, nc, [&](std::size_t k) {
-      return "trajectory " + std::to_string(k / (d + 1)) + " point " + std::to_string(k % (d + 1));
-    });
-    r.morris = std::move(M);
-  }
-
-  if (g.sobol) {
-    SobolStudy S;
-    const std::size_t N = static_cast<std::size_t>(g.samples);
-    S.design = uq::saltelliDesign(N, d, uq::streamSeed(g.seed, kSobolShift));
-    S.points = physicalPoints(s, S.design.points);
-    S.runs = runDesigns(s, g, S.points, K, "sobol", o, comm);
-    count(S.runs.size());
-    uq::BootstrapOptions bo{g.resamples, g.confidence, uq::streamSeed(g.seed, kSobolBootstrap)};
-    std::vector<std::vector<double>> ys;
-    for (std::size_t j = 0; j < K; ++j) ys.push_back(outputColumn(S.runs, j));
-    for (std::size_t j = 0; j < K; ++j) S.outputs.push_back(uq::sobolIndices(ys[j], N, d, bo));
-    for (std::size_t n = N / 8; n <= N; n *= 2) {
-      if (n < 4) continue;
-      S.convergenceN.push_back(n);
-      std::vector<uq::SobolIndices> level;
-      for (std::size_t j = 0; j < K; ++j) level.push_back(uq::sobolIndices(ys[j], N, d, uq::BootstrapOptions{0, 0.95, 0}, n));
-      S.convergence.push_back(std::move(level));
-    }
-    r.sobolFailures = failures(S.runs, r.outputs, nc, [&](std::size_t k) {
-      const std::size_t m = uq::saltelliMatrix(k, d);
-      return "block " + std::to_string(uq::saltelliBlock(k, d)) + " " +
-             (m == 0 ? std::string("A") : m == 1 ? std::string("B") : "AB^" + std::to_string(m - 1) + " (" + s.variables[m - 2].path + ")");
-    });
-    r.sobol = std::move(S);
+    r.drops += designs * g.cases.size();
   }
   return r;
 }

@@ -169,7 +169,7 @@ std::string indicesCsv(const Study& s, const SensitivityResult& r, const std::st
   std::ostringstream c;
   const std::size_t d = s.variables.size();
   if (method == "local" && r.local) {
-    c << "metric,case,unit,variable,variable_unit,baseline_metric,baseline_variable,elasticity[-],derivative[unit/variable_unit],undefined,source\n";
+    c << "metric,case,unit,variable,variable_unit,baseline_metric[unit],baseline_variable[variable_unit],elasticity[-],derivative[unit/variable_unit],undefined,source\n";
     for (std::size_t k = 0; k < r.outputs.size(); ++k)
       for (std::size_t i = 0; i < d; ++i) {
         const uq::Elasticities& e = r.local->outputs[k];

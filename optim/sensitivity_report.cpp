@@ -133,6 +133,26 @@ std::string morrisSection(const Study& s, const SensitivityResult& r) {
   return m.str();
 }
 
+// S1 / ST of every output and variable at N/8, N/4, N/2, N.
+std::string convergenceSection(const Study& s, const SensitivityResult& r) {
+  std::ostringstream m;
+  const SobolStudy& S = *r.sobol;
+  const std::size_t d = s.variables.size();
+  m << "### Convergence: S1 / ST against N\n\n| metric | case | variable |";
+  for (std::size_t n : S.convergenceN) m << " N = " << n << " |";
+  m << "\n|---|---|---|";
+  for (std::size_t n = 0; n < S.convergenceN.size(); ++n) m << "---|";
+  m << "\n";
+  for (std::size_t k = 0; k < r.outputs.size(); ++k)
+    for (std::size_t i = 0; i < d; ++i) {
+      m << "| " << r.outputs[k].metric << " | " << r.outputs[k].caseName << " | " << s.variables[i].path << " |";
+      for (std::size_t n = 0; n < S.convergenceN.size(); ++n)
+        m << " " << shortNumber(S.convergence[n][k].S1[i], 3) << " / " << shortNumber(S.convergence[n][k].ST[i], 3) << " |";
+      m << "\n";
+    }
+  return m.str();
+}
+
 std::string sobolSection(const Study& s, const SensitivityResult& r, const std::vector<std::string>& warnings) {
   std::ostringstream m;
   const SobolStudy& S = *r.sobol;
@@ -169,19 +189,7 @@ std::string sobolSection(const Study& s, const SensitivityResult& r, const std::
     }
     m << "\n\n" << kMark << "sobol_" << safeFileStem(metric) << kMark << "\n\n";
   }
-  m << "### Convergence: S1 / ST against N\n\n| metric | case | variable |";
-  for (std::size_t n : S.convergenceN) m << " N = " << n << " |";
-  m << "\n|---|---|---|";
-  for (std::size_t n = 0; n < S.convergenceN.size(); ++n) m << "---|";
-  m << "\n";
-  for (std::size_t k = 0; k < r.outputs.size(); ++k)
-    for (std::size_t i = 0; i < d; ++i) {
-      m << "| " << r.outputs[k].metric << " | " << r.outputs[k].caseName << " | " << s.variables[i].path << " |";
-      for (std::size_t n = 0; n < S.convergenceN.size(); ++n)
-        m << " " << shortNumber(S.convergence[n][k].S1[i], 3) << " / " << shortNumber(S.convergence[n][k].ST[i], 3) << " |";
-      m << "\n";
-    }
-  m << "\n### Warnings\n\n";
+  m << convergenceSection(s, r) << "\n### Warnings\n\n";
   if (warnings.empty()) m << "None: every interval is narrower than the index it bounds.\n";
   for (const auto& w : warnings) m << "- " << w << "\n";
   return m.str() + "\n";
