@@ -2,14 +2,12 @@
 // Runs the certification drop-test matrix of a scene's [certification] table (sim/certification.hpp)
 // and the scene's own cases as checks; writes DIR/compliance.json, DIR/compliance.md and, with
 // --plots, one picture per case with its limits drawn. Exit status: 0 every matrix case passes,
-// 1 a case fails (or an output could not be written), 2 bad input (nothing written).
-#include <CLI/CLI.hpp>
-
+// 1 a case fails (or an output could not be written), 2 bad input (nothing written), 130 interrupted.
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <thread>
 
+#include "apps/cli.hpp"
 #include "sim/certification.hpp"
 #include "sim/io/compliance.hpp"
 #include "sim/io/files.hpp"
@@ -18,6 +16,7 @@
 
 int main(int argc, char** argv) {
   CLI::App app{"Certification drop tests: runs the scene's [certification] matrix and writes a compliance report"};
+  lg::cli::addVersion(app, "certify");
   std::string scenePath, outDir = "compliance", basis;
   bool plots = false, quiet = false;
   int threads = 0;
@@ -25,9 +24,9 @@ int main(int argc, char** argv) {
   app.add_option("--basis", basis, "replace the table's basis: part25, cs25, part23, cs23, custom");
   app.add_option("--out", outDir, "output directory (default: compliance)");
   app.add_flag("--plots", plots, "draw one picture per case with its limits (gnuplot)");
-  app.add_option("--threads", threads, "threads over the cases (default 0: all cores)")->check(CLI::NonNegativeNumber);
+  lg::cli::addThreads(app, threads, "the cases");
   app.add_flag("--quiet", quiet, "no table on the terminal");
-  CLI11_PARSE(app, argc, argv);
+  if (const int rc = lg::cli::parse(app, argc, argv); rc >= 0) return rc;
 
   lg::Scene scene;
   std::shared_ptr<const lg::Certification> spec;
@@ -42,35 +41,32 @@ int main(int argc, char** argv) {
                          : std::make_shared<const lg::Certification>(lg::parseCertification(*t, scenePath, scene, basis));
   } catch (const lg::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 2;
+    return lg::cli::kUsage;
   }
-  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-
+  threads = lg::cli::resolveThreads(threads);
   // The output directory exists and takes files before the first case runs.
   namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::create_directories(outDir, ec);
-  if (ec || !fs::is_directory(outDir)) {
-    std::cerr << "error: cannot create output directory '" << outDir << "': " << ec.message() << "\n";
-    return 1;
-  }
   try {
-    lg::writeFileAtomic((fs::path(outDir) / ".write-test").string(), "");
-    fs::remove(fs::path(outDir) / ".write-test", ec);
+    lg::prepareOutputDir(outDir);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 1;
+    return lg::cli::kFailed;
   }
-
+  lg::cli::installInterruptHandler();
   lg::CaseOptions opt;
   opt.record = plots;
+  opt.stop = [] { return lg::cli::interrupted(); };
   std::vector<lg::CaseResult> runs;
   const lg::Compliance c = lg::assessCompliance(scene, *spec, threads, opt, &runs);
+  if (lg::cli::interrupted()) {
+    std::cerr << "interrupted: nothing written\n";
+    return lg::cli::kInterrupted;
+  }
   try {
     std::string pictures;
     if (plots) {
       const fs::path pd = fs::path(outDir) / "plots";
-      fs::create_directories(pd);
+      lg::prepareOutputDir(pd.string());
       const bool gp = lg::haveGnuplot();
       if (!gp) pictures = "gnuplot was not found: the data and scripts are in `plots/` (run `gnuplot <case>.gp` there).\n";
       std::vector<const lg::CaseVerdict*> all;
@@ -86,6 +82,7 @@ int main(int argc, char** argv) {
         f.title = title;
         f.run = &runs[i];
         f.limits = lg::compliancePlotLimits(scene, *spec, v);
+        f.drawElementsOf(scene);
         const std::string stem = lg::safeFileStem(v.name);
         std::string why;
         if (lg::drawCaseFigure(f, pd.string(), stem, gp, &why)) {
@@ -101,11 +98,11 @@ int main(int argc, char** argv) {
     lg::writeFileAtomic((fs::path(outDir) / "compliance.md").string(), lg::complianceMarkdown(c, pictures));
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 1;
+    return lg::cli::kFailed;
   }
   if (!quiet) {
     std::cout << lg::complianceSummary(c);
     std::cout << "wrote " << outDir << "/compliance.json and compliance.md" << (plots ? " with plots" : "") << "\n";
   }
-  return c.pass ? 0 : 1;
+  return c.pass ? lg::cli::kOk : lg::cli::kFailed;
 }

@@ -1,56 +1,50 @@
-// optimize STUDY [--out DIR] [--threads N] [--maxeval N] [--resume] [--no-plots] [--quiet]
+// optimize STUDY [--out DIR] [--threads N] [--maxeval N] [--set PATH=VALUE]... [--resume] [--plots] [--quiet]
 // Runs an NLopt design study (optim/study.hpp) and writes DIR/history.csv, result.json, best.toml,
-// report.md. Exit status: 0 done (also after Ctrl-C, with the best design so far), 2 bad input
-// (nothing written), 1 other errors.
+// report.md. Exit status: 0 done, 1 an output could not be written, 2 bad input (nothing written),
+// 130 interrupted by Ctrl-C (the best design so far written).
 #include <unistd.h>
 
-#include <atomic>
-#include <csignal>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 
-#include <omp.h>
-
-#include <CLI/CLI.hpp>
-
+#include "apps/cli.hpp"
 #include "optim/report.hpp"
 #include "optim/study.hpp"
-
-namespace {
-volatile std::sig_atomic_t gInterrupted = 0;
-extern "C" void onSigint(int) { gInterrupted = 1; }
-}  // namespace
+#include "sim/io/overrides.hpp"
+#include "sim/io/plots.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"Design study of a gear scene with NLopt (see optim/study.hpp for the study file)"};
+  CLI::App app{"Design study of a gear scene with NLopt (see README, \"Study files\")"};
+  lg::cli::addVersion(app, "optimize");
   std::string studyPath, outDir;
+  std::vector<std::string> sets;
   int threads = 0, maxeval = -1;
-  bool quiet = false, resume = false, noPlots = false;
+  bool quiet = false, resume = false, plots = false;
   app.add_option("study", studyPath, "study file (TOML, .cfg or .toml)")->required();
   app.add_option("--out", outDir, "output directory (default: <study stem>-out in the current directory)");
-  app.add_option("--threads", threads, "OpenMP threads over the cases of a design (default: min(cases, cores))")
-      ->check(CLI::Range(1, 1024));
+  lg::cli::addThreads(app, threads, "the cases of a design");
   app.add_option("--maxeval", maxeval, "override [algorithm] maxeval")->check(CLI::Range(0, 100000000));
+  app.add_option("--set", sets, "override a parameter of the study's scene, PATH=VALUE in SI units (repeatable)");
   app.add_flag("--resume", resume, "reuse the evaluations of DIR/history.csv (same bits of the variables)");
-  app.add_flag("--no-plots", noPlots, "skip gnuplot (data and script are still written)");
+  app.add_flag("--plots", plots, "draw the report's pictures with gnuplot (the data and scripts are written regardless)");
   app.add_flag("--quiet", quiet, "no progress line or summary");
-  CLI11_PARSE(app, argc, argv);
+  if (const int rc = lg::cli::parse(app, argc, argv); rc >= 0) return rc;
 
   lg::optim::Study study;
   try {
-    study = lg::optim::loadStudy(studyPath);
+    std::vector<lg::ParameterOverride> overrides;
+    for (const auto& s : sets) overrides.push_back(lg::parseOverride(s));
+    study = lg::optim::loadStudy(studyPath, overrides);
   } catch (const lg::InputError& e) {
-    std::cerr << "optimize: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "optimize: " << studyPath << ": " << e.what() << "\n";
-    return 2;
+    std::cerr << "error: " << e.what() << "\n";
+    return lg::cli::kUsage;
   }
-  if (outDir.empty()) outDir = std::filesystem::path(studyPath).stem().string() + "-out";
-  if (threads <= 0) threads = std::max(1, std::min<int>(static_cast<int>(study.cases.size()), omp_get_num_procs()));
+  if (outDir.empty()) outDir = lg::safeFileStem(std::filesystem::path(studyPath).stem().string()) + "-out";
+  threads = std::min(lg::cli::resolveThreads(threads), std::max(1, study.steeringCases()));
 
-  std::signal(SIGINT, onSigint);
+  lg::cli::installInterruptHandler();
   const bool tty = !quiet && isatty(fileno(stderr));
   const bool maximize = study.objective.kind == lg::optim::ObjectiveKind::MaxEfficiency;
 
@@ -59,8 +53,8 @@ int main(int argc, char** argv) {
   ro.threads = threads;
   ro.maxeval = maxeval;
   ro.resume = resume;
-  ro.plots = !noPlots;
-  ro.stop = [] { return gInterrupted != 0; };
+  ro.plots = plots;
+  ro.stop = [] { return lg::cli::interrupted(); };
   double best = NAN;
   double lastPrint = -1;
   ro.progress = [&](const lg::optim::EvaluationRecord& r, double elapsed) {
@@ -78,13 +72,14 @@ int main(int argc, char** argv) {
     res = lg::optim::runStudy(study, ro);
   } catch (const std::exception& e) {
     if (tty) std::fprintf(stderr, "\n");
-    std::cerr << "optimize: " << e.what() << "\n";
-    return 1;
+    std::cerr << "error: " << e.what() << "\n";
+    return lg::cli::kFailed;
   }
   if (tty) std::fprintf(stderr, "\n");
   for (const auto& w : res.warnings) std::cerr << "optimize: warning: " << w << "\n";
-  if (!quiet) {
-    const auto& o = res.opt;
+  const auto& o = res.opt;
+  if (!quiet && o.history.empty()) std::printf("%s: %s\n", study.name.c_str(), o.reason.c_str());
+  if (!quiet && !o.history.empty()) {
     std::printf("%s: %s after %d evaluations (%d simulated)\n", study.name.c_str(), o.reason.c_str(), o.evaluations,
                 o.simulations);
     std::printf("  objective %s: baseline %.6g -> best %.6g (%s, evaluation %d)\n",
@@ -100,5 +95,5 @@ int main(int argc, char** argv) {
       std::printf("  %-16s %.6g -> %.6g\n", study.variables[i].path.c_str(), o.x0[i], o.x[i]);
     std::printf("  wrote %s/{history.csv,result.json,best.toml,report.md}\n", outDir.c_str());
   }
-  return 0;
+  return o.interrupted && lg::cli::interrupted() ? lg::cli::kInterrupted : lg::cli::kOk;
 }

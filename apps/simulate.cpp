@@ -1,7 +1,9 @@
 // simulate SCENE [--case NAME]... [--out DIR] [--plots] [--threads N] [--integrator NAME] [--rtol X]
-//          [--atol X] [--step H] [--quiet]
-// Runs drop cases of a scene and writes DIR/<case>.csv, DIR/summary.json (and plots).
-#include <CLI/CLI.hpp>
+//          [--atol X] [--step H] [--set PATH=VALUE]... [--sink-speeds LIST] [--lift-ratios LIST]
+//          [--duration T] [--output-interval DT] [--quiet]
+// Runs drop cases of a scene and writes DIR/<case>.csv, DIR/summary.json, DIR/summary.csv (and plots).
+// Exit status: 0 done, 1 a case failed or an output could not be written, 2 bad input (nothing
+// written), 130 interrupted (nothing written).
 #include <unistd.h>
 
 #include <atomic>
@@ -11,84 +13,166 @@
 #include <filesystem>
 #include <iostream>
 #include <mutex>
-#include <thread>
 
+#include "apps/cli.hpp"
+#include "sim/io/files.hpp"
+#include "sim/io/overrides.hpp"
 #include "sim/io/plots.hpp"
 #include "sim/io/results.hpp"
 #include "sim/io/toml_reader.hpp"  // lg::fmt
 
-int main(int argc, char** argv) {
-  CLI::App app{"Drop-test simulator: runs the drop cases of a gear scene"};
-  std::string scenePath, outDir = "out";
-  std::vector<std::string> caseNames;
+namespace {
+
+struct Options {
+  std::string scene, outDir = "out", integrator, sinkSpeeds, liftRatios;
+  std::vector<std::string> cases, sets;
   bool plots = false, quiet = false;
   int threads = 0;
-  std::string integrator;
-  double rtol = 0, atol = 0, step = 0;
-  app.add_option("scene", scenePath, "scene file (TOML)")->required();
-  app.add_option("--case", caseNames, "case to run (repeatable; default: every case of the scene)");
-  app.add_option("--out", outDir, "output directory (default: out)");
-  app.add_flag("--plots", plots, "draw P_y(t), s(t), h(t) and the work diagram P_y(h) with gnuplot");
-  app.add_option("--threads", threads, "threads for running cases in parallel (default: all cores)");
-  app.add_flag("--quiet", quiet, "no progress and no table on the terminal");
-  app.add_option("--integrator", integrator, "override the scene's integrator: dopri5, ros34pw2, ros2, rk4, euler");
-  app.add_option("--rtol", rtol, "override the relative tolerance of the adaptive integrators (atol = rtol/100 unless --atol)");
-  app.add_option("--atol", atol, "override the absolute tolerance of the adaptive integrators");
-  app.add_option("--step", step, "override the step of the fixed-step integrators (first trial step of the adaptive ones) [s]");
-  CLI11_PARSE(app, argc, argv);
+  double rtol = 0, atol = 0, step = 0, duration = 0.8, outputInterval = 0;
+};
 
-  lg::Scene scene;
-  std::vector<lg::DropCase> cases;
-  try {
-    scene = lg::loadScene(scenePath);
-    // Solver overrides from the command line, checked like the scene's own keys.
-    lg::Settings& cfg = scene.model.settings;
-    auto positive = [](const char* flag, double v) {
-      if (!(v > 0) || !std::isfinite(v))
-        throw lg::InputError("command line", 0, flag, "value " + lg::fmt(v) + " must be > 0");
-    };
-    if (!integrator.empty() && !lg::integratorFromName(integrator, cfg.integrator))
-      throw lg::InputError("command line", 0, "--integrator",
-                           "value '" + integrator + "' must be one of " + lg::integratorNames());
-    if (app.count("--rtol")) {
-      positive("--rtol", rtol);
-      cfg.rtol = rtol;
-      cfg.atol = rtol * 1e-2;
-    }
-    if (app.count("--atol")) {
-      positive("--atol", atol);
-      cfg.atol = atol;
-    }
-    if (app.count("--step")) {
-      positive("--step", step);
-      cfg.step = step;
-    }
-    if (caseNames.empty()) cases = scene.cases;
-    for (const auto& n : caseNames) {
+// The scene with the command line's overrides and the cases to run; throws lg::InputError.
+lg::Scene loadInputs(const Options& o, const CLI::App& app, std::vector<lg::DropCase>& cases) {
+  std::vector<lg::ParameterOverride> sets;
+  for (const auto& s : o.sets) sets.push_back(lg::parseOverride(s));
+  lg::Scene scene = lg::applyOverrides(lg::loadScene(o.scene), sets);
+  // Solver overrides, checked like the scene's own keys.
+  lg::Settings& cfg = scene.model.settings;
+  auto positive = [](const char* flag, double v) {
+    if (!(v > 0) || !std::isfinite(v)) throw lg::InputError("command line", 0, flag, "value " + lg::fmt(v) + " must be > 0");
+  };
+  if (!o.integrator.empty() && !lg::integratorFromName(o.integrator, cfg.integrator))
+    throw lg::InputError("command line", 0, "--integrator", "value '" + o.integrator + "' must be one of " + lg::integratorNames());
+  if (app.count("--rtol")) {
+    positive("--rtol", o.rtol);
+    cfg.rtol = o.rtol;
+    cfg.atol = o.rtol * 1e-2;
+  }
+  if (app.count("--atol")) {
+    positive("--atol", o.atol);
+    cfg.atol = o.atol;
+  }
+  if (app.count("--step")) {
+    positive("--step", o.step);
+    cfg.step = o.step;
+  }
+  if (app.count("--output-interval")) positive("--output-interval", o.outputInterval);
+  // The cases: a sink-speed / lift matrix, the named scene cases, or every case of the scene.
+  const bool matrix = !o.sinkSpeeds.empty() || !o.liftRatios.empty();
+  if (matrix) {
+    if (!o.cases.empty())
+      throw lg::InputError("command line", 0, "--case", "give either --case or a matrix (--sink-speeds, --lift-ratios)");
+    if (o.sinkSpeeds.empty()) throw lg::InputError("command line", 0, "--sink-speeds", "a matrix needs its sink speeds");
+    positive("--duration", o.duration);
+    const auto V = lg::parseValueList(o.sinkSpeeds, "--sink-speeds", true);
+    const auto L = o.liftRatios.empty() ? std::vector<double>{0.0} : lg::parseValueList(o.liftRatios, "--lift-ratios", false);
+    for (double l : L)
+      if (l > 0 && scene.roles.lifts.empty())
+        throw lg::InputError("command line", 0, "--lift-ratios", "value " + lg::fmt(l) + ": the scene declares no lift element");
+    cases = lg::caseMatrix(V, L, o.duration);
+  } else if (o.cases.empty()) {
+    cases = scene.cases;
+  } else {
+    for (const auto& n : o.cases) {
       auto it = std::find_if(scene.cases.begin(), scene.cases.end(), [&](const auto& c) { return c.name == n; });
       if (it == scene.cases.end()) {
         std::string known;
         for (const auto& c : scene.cases) known += (known.empty() ? "" : ", ") + c.name;
-        throw lg::InputError(scenePath, 0, "case", "no case named '" + n + "' (cases: " + known + ")");
+        throw lg::InputError(o.scene, 0, "case", "no case named '" + n + "' (cases: " + known + ")");
       }
       cases.push_back(*it);
     }
-    if (cases.empty()) throw lg::InputError(scenePath, 0, "case", "the scene declares no [[case]] to run");
+  }
+  if (cases.empty()) throw lg::InputError(o.scene, 0, "case", "the scene declares no [[case]] to run");
+  return scene;
+}
+
+// Writes every output file (atomically); throws std::runtime_error on the first that fails.
+void writeOutputs(const Options& o, const lg::Scene& scene, const std::vector<lg::CaseResult>& results, bool gnuplot) {
+  namespace fs = std::filesystem;
+  for (const auto& r : results) {
+    const std::string stem = lg::safeFileStem(r.metrics.name);
+    lg::writeFileAtomic((fs::path(o.outDir) / (stem + ".csv")).string(), lg::historyCsv(r));
+    if (!o.plots) continue;
+    lg::CaseFigure f;
+    char title[256];
+    std::snprintf(title, sizeof title, "%s: %s, V = %.3f m/s, L = %.3g, W = %.0f kg", scene.name.c_str(),
+                  r.metrics.name.c_str(), r.metrics.sink_speed_mps, r.metrics.lift_ratio, r.metrics.mass_kg);
+    f.title = title;
+    f.run = &r;
+    f.limits = lg::sceneLimits(scene);
+    f.drawElementsOf(scene);
+    std::string why;
+    if (!lg::drawCaseFigure(f, o.outDir, stem, gnuplot, &why) && gnuplot)
+      std::cerr << "plot of " << r.metrics.name << " skipped: " << why << "\n";
+  }
+  lg::writeFileAtomic((fs::path(o.outDir) / "summary.json").string(), lg::summaryJson(scene, results));
+  lg::writeFileAtomic((fs::path(o.outDir) / "summary.csv").string(), lg::summaryCsv(results));
+}
+
+void printTable(const std::vector<lg::CaseResult>& results) {
+  std::printf("%-10s %12s %9s %7s %9s %9s %9s %7s %7s %10s %6s %9s  %s\n", "case", "peak P_y[N]", "t_peak[s]", "n_y",
+              "s_max[m]", "h_max[m]", "delta[m]", "eta", "eta_s", "E_err", "steps", "time[ms]", "limits");
+  for (const auto& r : results) {
+    const auto& m = r.metrics;
+    const std::string lim = !m.ok ? "FAILED: " + m.message : m.withinLimits() ? "ok" : "EXCEEDED: " + m.limitViolations();
+    std::printf("%-10s %12.1f %9.5f %7.3f %9.5f %9.5f %9.5f %7.4f %7.4f %10.2e %6ld %9.3f  %s\n", m.name.c_str(),
+                m.peak_load_N, m.t_peak_s, m.load_factor, m.stroke_max_m, m.h_max_m, m.tyre_deflection_max_m,
+                m.efficiency, m.strut_efficiency, m.energy_balance_error, m.steps, 1e3 * m.wall_time_s, lim.c_str());
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Drop-test simulator: runs the drop cases of a gear scene"};
+  lg::cli::addVersion(app, "simulate");
+  Options o;
+  app.add_option("scene", o.scene, "scene file (TOML)")->required();
+  app.add_option("--case", o.cases, "case to run (repeatable; default: every case of the scene)");
+  app.add_option("--out", o.outDir, "output directory (default: out)");
+  app.add_flag("--plots", o.plots, "draw one figure per case with gnuplot");
+  lg::cli::addThreads(app, o.threads, "the cases");
+  app.add_flag("--quiet", o.quiet, "no progress and no table on the terminal");
+  app.add_option("--integrator", o.integrator, "override the scene's integrator: dopri5, ros34pw2, ros2, rk4, euler");
+  app.add_option("--rtol", o.rtol, "override the relative tolerance of the adaptive integrators (atol = rtol/100 unless --atol)");
+  app.add_option("--atol", o.atol, "override the absolute tolerance of the adaptive integrators");
+  app.add_option("--step", o.step, "override the step of the fixed-step integrators (first trial step of the adaptive ones) [s]");
+  app.add_option("--set", o.sets, "override a scene parameter, PATH=VALUE in SI units (repeatable), e.g. strut.f1=8e-5");
+  app.add_option("--sink-speeds", o.sinkSpeeds, "run a matrix instead of the scene's cases: sink speeds [m/s], a,b,c or start:step:stop");
+  app.add_option("--lift-ratios", o.liftRatios, "the matrix's lift ratios, a,b,c or start:step:stop (default 0)");
+  app.add_option("--duration", o.duration, "the matrix cases' duration [s] (default 0.8)");
+  app.add_option("--output-interval", o.outputInterval, "CSV rows every DT seconds from the dense output (default: one per step) [s]");
+  if (const int rc = lg::cli::parse(app, argc, argv); rc >= 0) return rc;
+
+  lg::Scene scene;
+  std::vector<lg::DropCase> cases;
+  try {
+    scene = loadInputs(o, app, cases);
   } catch (const lg::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 2;
+    return lg::cli::kUsage;
   }
-  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  try {
+    lg::prepareOutputDir(o.outDir);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return lg::cli::kFailed;
+  }
+  const int threads = lg::cli::resolveThreads(o.threads);
+  lg::cli::installInterruptHandler();
 
-  // Progress on a terminal for runs longer than a second.
-  const bool tty = !quiet && isatty(STDERR_FILENO);
+  // Progress on a terminal for runs longer than a second; Ctrl-C stops every case at its next step.
+  const bool tty = !o.quiet && isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
   std::atomic<int> done{0};
   std::mutex mu;
   auto lastPrint = start;
   lg::CaseOptions opt;
   opt.record = true;
+  opt.outputInterval = o.outputInterval;
   opt.stop = [&]() {
+    if (lg::cli::interrupted()) return true;
     if (!tty) return false;
     std::lock_guard<std::mutex> lock(mu);
     const auto now = std::chrono::steady_clock::now();
@@ -108,48 +192,29 @@ int main(int argc, char** argv) {
   }
   if (tty && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > 1.0)
     std::fprintf(stderr, "\r%60s\r", "");
-
-  std::error_code ec;
-  std::filesystem::create_directories(outDir, ec);
-  if (ec) {
-    std::cerr << "error: cannot create output directory " << outDir << ": " << ec.message() << "\n";
-    return 1;
+  if (lg::cli::interrupted()) {
+    std::cerr << "interrupted: nothing written\n";
+    return lg::cli::kInterrupted;
   }
+
   int failed = 0;
-  const bool gp = plots && lg::haveGnuplot();
-  if (plots && !gp) std::cerr << "plots skipped: gnuplot is not installed (scripts/setup.sh installs gnuplot-nox)\n";
-  for (const auto& r : results) {
-    lg::writeHistoryCsv(scene, r, outDir + "/" + r.metrics.name + ".csv");
+  for (const auto& r : results)
     if (!r.metrics.ok) {
       ++failed;
       std::cerr << "case " << r.metrics.name << " failed: " << r.metrics.message << "\n";
     }
-    if (plots) {
-      lg::CaseFigure f;
-      char title[256];
-      std::snprintf(title, sizeof title, "%s: %s, V = %.3f m/s, L = %.3g, W = %.0f kg", scene.name.c_str(),
-                    r.metrics.name.c_str(), r.metrics.sink_speed_mps, r.metrics.lift_ratio, r.metrics.mass_kg);
-      f.title = title;
-      f.run = &r;
-      f.limits = lg::sceneLimits(scene);
-      std::string why;
-      if (!lg::drawCaseFigure(f, outDir, lg::safeFileStem(r.metrics.name), gp, &why) && gp)
-        std::cerr << "plot of " << r.metrics.name << " skipped: " << why << "\n";
-    }
+  const bool gnuplot = o.plots && lg::haveGnuplot();
+  if (o.plots && !gnuplot) std::cerr << "plots skipped: gnuplot is not installed (scripts/setup.sh installs gnuplot-nox)\n";
+  try {
+    writeOutputs(o, scene, results, gnuplot);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return lg::cli::kFailed;
   }
-  lg::writeSummaryJson(scene, results, outDir + "/summary.json");
-  if (!quiet) {
-    std::printf("%-10s %12s %9s %7s %9s %9s %9s %7s %7s %10s %6s %9s  %s\n", "case", "peak P_y[N]", "t_peak[s]", "n_y",
-                "s_max[m]", "h_max[m]", "delta[m]", "eta", "eta_s", "E_err", "steps", "time[ms]", "limits");
-    for (const auto& r : results) {
-      const auto& m = r.metrics;
-      const std::string lim = !m.ok ? "FAILED: " + m.message : m.withinLimits() ? "ok" : "EXCEEDED: " + m.limitViolations();
-      std::printf("%-10s %12.1f %9.5f %7.3f %9.5f %9.5f %9.5f %7.4f %7.4f %10.2e %6ld %9.3f  %s\n", m.name.c_str(),
-                  m.peak_load_N, m.t_peak_s, m.load_factor, m.stroke_max_m, m.h_max_m, m.tyre_deflection_max_m,
-                  m.efficiency, m.strut_efficiency, m.energy_balance_error, m.steps, 1e3 * m.wall_time_s, lim.c_str());
-    }
-    std::printf("wrote %s/summary.json and %zu case file(s)%s\n", outDir.c_str(), results.size(),
-                gp ? " with plots" : "");
+  if (!o.quiet) {
+    printTable(results);
+    std::printf("wrote %s/summary.json, summary.csv and %zu case file(s)%s\n", o.outDir.c_str(), results.size(),
+                gnuplot ? " with plots" : "");
   }
-  return failed ? 1 : 0;
+  return failed ? lg::cli::kFailed : lg::cli::kOk;
 }

@@ -307,10 +307,19 @@ OptimizationResult runOptimizer(const Problem& p, const AlgorithmSettings& a, co
 
   nlopt::srand(a.seed);  // always: stochastic algorithms and MLSL repeat bit for bit
 
-  // The initial design (record 0) also fixes the objective scale.
+  // The initial design (record 0) also fixes the objective scale. Cut off by a stop request, it is no
+  // result of the design: nothing is recorded and the run ends there.
   {
     bool cached = false;
     const Evaluation e = evaluateCached(c, c.x0, &cached);
+    if (!cached && stopRequested(c)) {
+      out.nloptCode = NLOPT_FORCED_STOP;
+      out.nloptName = "NLOPT_FORCED_STOP";
+      out.reason = "stopped: interrupted before the baseline evaluation finished (no design evaluated)";
+      out.interrupted = true;
+      out.wallTime = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      return out;
+    }
     out.initial = e;
     c.fscale = p.objectiveScale > 0 ? p.objectiveScale
                : (e.ok && std::isfinite(e.objective) && e.objective != 0) ? std::abs(e.objective)
@@ -386,6 +395,7 @@ OptimizationResult runOptimizer(const Problem& p, const AlgorithmSettings& a, co
   const char* nm = nlopt_result_to_string(static_cast<nlopt_result>(out.nloptCode));
   out.nloptName = std::string("NLOPT_") + (nm ? nm : "UNKNOWN");
   out.reason = describeResult(out.nloptCode, &out.converged);
+  out.interrupted = c.stopped || out.nloptCode == NLOPT_FORCED_STOP;
   if (!error.empty() && out.nloptCode < 0) out.reason += " (" + error + ")";
   out.wallTime = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;

@@ -95,6 +95,7 @@ struct OptimizationResult {
   std::string nloptName;           // e.g. "NLOPT_MAXEVAL_REACHED"
   std::string reason;              // "converged: xtol_rel reached", "stopped: maxeval reached", ...
   bool converged = false;
+  bool interrupted = false;        // a stop request ended the run (Ctrl-C)
   double objectiveScale = 1;
   double wallTime = 0;             // [s]
   std::vector<EvaluationRecord> history;  // x, objective, feasibility per evaluation (no case detail)

@@ -158,6 +158,7 @@ std::string resultJson(const Study& s, const StudyResult& r, double wall) {
       << (k + 1 < s.items.size() ? "," : "") << "\n";
   }
   j << "  ],\n";
+  j << "  \"interrupted\": " << jsonBool(o.interrupted) << ",\n";
   j << "  \"best_evaluation\": " << o.bestIndex << ",\n";
   j << "  \"evaluations\": " << o.evaluations << ",\n";
   j << "  \"simulated_evaluations\": " << o.simulations << ",\n";
@@ -176,7 +177,7 @@ std::string makePlots(const Study& s, const StudyResult& r, const std::vector<Ca
                       std::vector<std::string>* warnings) {
   *made = false;
   const fs::path pd = dir / "plots";
-  fs::create_directories(pd);
+  prepareOutputDir(pd.string());
   const bool maximize = s.objective.kind == ObjectiveKind::MaxEfficiency;
   // convergence
   {
@@ -233,6 +234,7 @@ std::string makePlots(const Study& s, const StudyResult& r, const std::vector<Ca
     f.baseline = &base[i];
     f.runLabel = "optimum, compression";
     f.limits = sceneLimits(s.scene);
+    f.drawElementsOf(s.scene);
     if (s.certification) {
       f.limits = compliancePlotLimits(s.scene, *s.certification, v);
       if (s.cases[i].origin != CaseOrigin::Certification) f.limits.loadLimit = f.limits.loadUltimate = NAN;
@@ -445,7 +447,7 @@ StudyResult runStudy(const Study& s, const RunOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   StudyResult res;
   const fs::path dir(o.outDir);
-  fs::create_directories(dir);
+  prepareOutputDir(dir.string());
   const fs::path histPath = dir / "history.csv";
 
   EvaluationCache cache;
@@ -454,9 +456,8 @@ StudyResult runStudy(const Study& s, const RunOptions& o) {
     cache = readHistory(histPath.string(), s, &w);
     if (!w.empty()) res.warnings.push_back(w);
   }
-  std::ofstream hist(histPath, std::ios::trunc);
-  if (!hist) throw std::runtime_error("cannot write '" + histPath.string() + "'");
-  hist << historyHeader(s) << "\n" << std::flush;
+  LineLog hist;
+  if (!hist.open(histPath.string()) || !hist.write(historyHeader(s))) throw std::runtime_error(hist.error());
 
   EvaluatorOptions eo;
   eo.threads = o.threads;
@@ -465,15 +466,24 @@ StudyResult runStudy(const Study& s, const RunOptions& o) {
   AlgorithmSettings a = s.algorithm;
   if (o.maxeval >= 0) a.maxeval = o.maxeval;
   Observer obs;
-  obs.stopRequested = o.stop;
+  // A history line that cannot be written stops the study: it must not run on without its log.
+  obs.stopRequested = [&] { return !hist.error().empty() || (o.stop && o.stop()); };
   obs.onEvaluation = [&](const EvaluationRecord& r) {
-    hist << historyLine(s, r) << "\n" << std::flush;
-    if (!hist) throw std::runtime_error("cannot write '" + histPath.string() + "'");
+    hist.write(historyLine(s, r));
     if (o.progress)
       o.progress(r, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   };
   res.opt = runOptimizer(p, a, obs, o.resume ? &cache : nullptr);
-  hist.close();
+  if (!hist.close()) throw std::runtime_error(hist.error() + " (the study stopped there)");
+  if (res.opt.history.empty()) {  // interrupted before the baseline finished: no design to report
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    writeFileAtomic((dir / "result.json").string(),
+                    "{\n  \"study\": " + jsonString(s.name) + ",\n  \"feasible\": false,\n  \"evaluations\": 0,\n"
+                    "  \"interrupted\": true,\n  \"nlopt\": {\"reason\": " + jsonString(res.opt.reason) +
+                    "},\n  \"wall_time_s\": " + jsonNumber(wall) + "\n}\n");
+    writeFileAtomic((dir / "report.md").string(), "# Design study: " + s.name + "\n\n" + res.opt.reason + ".\n");
+    return res;
+  }
 
   // Baseline and best re-simulated on every case of the study (steering cases and checks) with their
   // time histories, and judged against each case's limits.
@@ -484,6 +494,17 @@ StudyResult runStudy(const Study& s, const RunOptions& o) {
   std::vector<CaseResult> baseRuns, bestRuns;
   const Evaluation e0 = evaluateDesign(s, res.opt.x0, all, &baseRuns);
   const Evaluation e1 = evaluateDesign(s, res.opt.x, all, &bestRuns);
+  // A design the scene rejects runs no case: each case then fails with the design's reason.
+  for (auto* runs : {&baseRuns, &bestRuns}) {
+    const Evaluation& e = runs == &baseRuns ? e0 : e1;
+    if (runs->size() == s.cases.size()) continue;
+    runs->assign(s.cases.size(), CaseResult{});
+    for (size_t i = 0; i < s.cases.size(); ++i) {
+      (*runs)[i].metrics.name = s.cases[i].dropCase.name;
+      (*runs)[i].metrics.ok = false;
+      (*runs)[i].metrics.message = e.message;
+    }
+  }
   for (const auto& r : baseRuns) res.baselineCases.push_back(r.metrics);
   for (const auto& r : bestRuns) res.bestCases.push_back(r.metrics);
   if (res.opt.best.ok && e1.ok && e1.objective != res.opt.best.objective)

@@ -9,6 +9,7 @@
 #include <nlopt.h>
 
 #include "optim/optimizer.hpp"
+#include "sim/io/files.hpp"
 #include "sim/io/toml_reader.hpp"
 #include "sim/metrics.hpp"
 
@@ -137,7 +138,7 @@ void parseCases(const toml::table& doc, const std::string& file, Study& s) {
     c.line = r.line();
     c.role = parseRole(r, "role", CaseRole::Objective);
     c.weight = r.positive("weight", 1.0);
-    const std::string name = r.string("name", "case" + std::to_string(i));
+    const std::string name = r.name("name", "case" + std::to_string(i));
     if (name.empty()) r.fail("name", "a case needs a non-empty name");
     if (!named.insert(name).second) r.fail("name", "case '" + name + "' appears twice in the study");
     const DropCase* sceneCase = nullptr;
@@ -458,13 +459,9 @@ void parseSensitivity(const toml::table& doc, const std::string& file, Study& s)
 }  // namespace
 
 // ---- parsing ---------------------------------------------------------------------------------------
-Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir) {
-  toml::table doc;
-  try {
-    doc = toml::parse(text, file);
-  } catch (const toml::parse_error& e) {
-    throw InputError(file, static_cast<int>(e.source().begin.line), "", "TOML syntax: " + std::string(e.description()));
-  }
+Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir,
+                 const std::vector<ParameterOverride>& sets) {
+  const toml::table doc = parseToml(text, file);
   Study s;
   s.file = file;
   TomlReader top(doc, file, "");
@@ -473,7 +470,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
                             "e.g. [[constraint]] metric = \"stroke_margin\" min = 0.01 (README, \"Study files\")");
   top.allowOnly({"name", "description", "scene", "solver", "variable", "case", "objective", "constraint", "certification",
                  "algorithm", "sensitivity"});
-  s.name = top.string("name", std::filesystem::path(file).stem().string());
+  s.name = top.name("name", safeFileStem(std::filesystem::path(file).stem().string()));
   (void)top.string("description", "");
 
   // scene
@@ -487,7 +484,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
     s.sceneFile = p.lexically_normal().string();
     s.sceneDir = p.parent_path().lexically_normal().string();
     if (s.sceneDir.empty()) s.sceneDir = ".";
-    s.scene = loadScene(s.sceneFile);  // its own errors name the scene file
+    s.scene = applyOverrides(loadScene(s.sceneFile), sets);  // its own errors name the scene file
   }
 
   // [solver]: the study's own integrator settings, written into the scene's [solver] so that every
@@ -559,13 +556,13 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
   return s;
 }
 
-Study loadStudy(const std::string& path) {
+Study loadStudy(const std::string& path, const std::vector<ParameterOverride>& sets) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, 0, "", "study file does not exist");
   const std::string text = readText(path, "study file");
   std::string base = std::filesystem::path(path).parent_path().string();
   if (base.empty()) base = ".";
-  return parseStudy(text, path, base);
+  return parseStudy(text, path, base, sets);
 }
 
 }  // namespace lg::optim

@@ -39,6 +39,7 @@
 
 #include "sim/certification.hpp"
 #include "sim/drop_test.hpp"
+#include "sim/io/overrides.hpp"
 
 namespace lg::optim {
 
@@ -153,10 +154,12 @@ struct Study {
   int steeringCases() const;  // objective and constraint cases: cases[0 .. steeringCases())
 };
 
-// Parses and validates a study; throws lg::InputError (file, line, key, rule).
-Study loadStudy(const std::string& path);
+// Parses and validates a study; throws lg::InputError (file, line, key, rule). 'sets' (the command
+// line's --set) override parameters of the study's scene before anything else reads it.
+Study loadStudy(const std::string& path, const std::vector<ParameterOverride>& sets = {});
 // 'file' names the text in messages; 'baseDir' resolves the scene path.
-Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir = ".");
+Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir = ".",
+                 const std::vector<ParameterOverride>& sets = {});
 
 // True where NLopt handles inequality constraints itself (COBYLA, ISRES, AGS, AUGLAG family); the
 // other local algorithms run inside LN_AUGLAG, the global ones get an exact penalty (optimizer.hpp).

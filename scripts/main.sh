@@ -7,5 +7,5 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 jobs=$(nproc 2>/dev/null || echo 2)
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j "$jobs" --target optimize simulate
-build/bin/optimize studies/seed_gear_min_peak.cfg --out out/seed_gear_min_peak "$@"
+cmake --build build -j "$jobs" --target optimize simulate certify
+build/bin/optimize studies/seed_gear_min_peak.cfg --out out/seed_gear_min_peak --plots "$@"

@@ -134,7 +134,7 @@ Certification parseCertification(const toml::table& t, const std::string& file, 
       TomlReader cr(*rows[i], file, "certification.case[" + std::to_string(i) + "]");
       cr.allowOnly({"name", "kind", "sink_speed", "lift_ratio", "mass", "duration"});
       CertCase cc;
-      cc.name = cr.string("name");
+      cc.name = cr.name("name");
       if (cc.name.empty() || !names.insert(cc.name).second) cr.fail("name", "'" + cc.name + "' is empty or used twice");
       for (const auto& sc : scene.cases)
         if (sc.name == cc.name) cr.fail("name", "'" + cc.name + "' is already a case of the scene: give the matrix case its own name");

@@ -37,6 +37,33 @@ std::string CaseMetrics::limitViolations() const {
   return out;
 }
 
+std::vector<Column> historyColumns(const Scene& scene) {
+  const Model<double>& m = scene.model;
+  std::vector<Column> c;
+  if (!scene.roles.tyres.empty()) c.push_back({"P_y", "N"});
+  if (!scene.roles.airframe.empty()) c.push_back({"h", "m"});
+  const bool manyTyres = scene.roles.tyres.size() > 1, manyStruts = scene.roles.struts.size() > 1;
+  for (int f : scene.roles.tyres) {
+    const std::string sfx = manyTyres ? "_" + m.forces[f].name : "";
+    c.push_back({"delta" + sfx, "m"});
+    if (manyTyres) c.push_back({"P_t" + sfx, "N"});
+  }
+  for (int f : scene.roles.struts) {
+    const std::string sfx = manyStruts ? "_" + m.forces[f].name : "";
+    for (const std::string& n : m.forces[f].outputNames())
+      c.push_back({n + sfx, n == "s" ? "m" : n == "s_dot" ? "m/s" : n == "p_1" ? "Pa" : "N"});
+  }
+  for (int ci : scene.roles.stops) c.push_back({"F_" + m.constraints[ci].name, "N"});
+  c.push_back({"violation", "m"});
+  return c;
+}
+
+int CaseResult::column(const std::string& name) const {
+  for (size_t i = 0; i < columns.size(); ++i)
+    if (columns[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
 double caseMass(const Scene& scene, const DropCase& c) {
   double G = 0;
   for (const auto& b : scene.model.bodies) {
@@ -87,7 +114,7 @@ struct Channels {
 class DropObserver {
  public:
   DropObserver(const Scene& sc, const Model<double>& m, const DropCase& c, const CaseOptions& opt, CaseResult& res)
-      : sc_(sc), m_(m), case_(c), opt_(opt), res_(res) {
+      : sc_(sc), m_(m), case_(c), opt_(opt), res_(res), wo_(m) {
     airframe_ = sc.roles.airframe.empty() ? -1 : m.bodyIndex(sc.roles.airframe);
     for (int ci : sc.roles.stops) {
       stopRows_.push_back(m.rowOffset[ci]);
@@ -95,7 +122,10 @@ class DropObserver {
       if (!st.noFarther) bottomRows_.push_back(m.rowOffset[ci]);
     }
     for (int f : sc.roles.tyres) tyreOut_.push_back(m.outputOffset[f]);
-    for (int f : sc.roles.struts) strutOut_.push_back(m.outputOffset[f]);
+    for (int f : sc.roles.struts) {
+      strutOut_.push_back(m.outputOffset[f]);
+      strutOutputs_.push_back(static_cast<int>(m.forces[f].outputNames().size()));
+    }
     const size_t ns = strutOut_.size(), nt = tyreOut_.size();
     prev_ = end_ = mid_ = after_ = scratch_ = Channels(ns, nt);
     workPa_.assign(ns, 0.0);
@@ -112,16 +142,22 @@ class DropObserver {
       M.tyres[k].deflection_limit_m = std::get<Tyre<double>>(m.forces[sc.roles.tyres[k]].type).deltaMax;
     }
     ytmp_ = VecX<double>::Zero(m.ny());
+    ydotTmp_ = VecX<double>::Zero(m.ny());
+    lambdaTmp_ = VecX<double>::Zero(m.nRows);
+    if (opt.record) res_.columns = historyColumns(sc);
   }
 
   void onStart(const Model<double>& m, const State<double>& s, Workspace<double>& w) {
     if (airframe_ >= 0) r0_ = w.kin[airframe_].r;
-    channels(s.t, w, prev_);
+    at(s.t, s.y, prev_);
     EnergyReport<double> e = energy(m, s, w);
     e0_ = e.total();
     ek0_ = e.kinetic;
     uExt0_ = externalPotential(w);
-    if (opt_.record) record(s, w, prev_);
+    if (opt_.record) {
+      record(s.t, wo_, s.lambda, s.active, w);  // t = 0 in either output mode
+      nextRow_ = 1;
+    }
     auto& M = res_.metrics;
     M.peak_load_N = prev_.Py;
     M.h_max_m = prev_.h;
@@ -187,12 +223,10 @@ class DropObserver {
     }
     M.constraint_violation_max = std::max(M.constraint_violation_max, viol);
     checkBottom(s);
-    // Restore the workspace's kinematics and outputs at the step's end for the record.
-    kinematics(m, s.y, w);
-    forceOutputs(w);
-    channels(s.t, w, after_);  // after any jump: the next step's start
+    if (opt_.record && opt_.outputInterval > 0) recordUniform(m, t0, t1, s, d);
+    at(s.t, s.y, after_);  // after any jump at t1: the next step's start
     for (size_t k = 0; k < M.struts.size(); ++k) M.struts[k].force_max_N = std::max(M.struts[k].force_max_N, after_.Pa[k]);
-    if (opt_.record) record(s, w, after_);
+    if (opt_.record && opt_.outputInterval <= 0) record(s.t, wo_, s.lambda, s.active, w);
     std::swap(prev_, after_);
     ++steps_;
   }
@@ -272,24 +306,60 @@ class DropObserver {
     for (size_t f = 0; f < m_.forces.size(); ++f)
       std::visit([&](const auto& e) { e.outputs(K, w.outputs.data() + m_.outputOffset[f]); }, m_.forces[f].type);
   }
-  // Channels on the dense output at time t (poses and force outputs only: no solve). The workspace's
-  // kinematics are restored at the step's end by onStep.
-  void channelsAt(double t, Workspace<double>& w, const DenseOutput<double>& d, Channels& c) {
+  // Channels at (t, y) on the observer's own workspace (poses and force outputs only: no solve), so that
+  // the integrator's workspace is never touched.
+  void at(double t, const VecX<double>& y, Channels& c) {
+    poses(m_, y, wo_);
+    forceOutputs(wo_);
+    channels(t, wo_, c);
+  }
+  void channelsAt(double t, Workspace<double>&, const DenseOutput<double>& d, Channels& c) {
     d.at(t, ytmp_);
-    poses(m_, ytmp_, w);
-    forceOutputs(w);
-    channels(t, w, c);
+    at(t, ytmp_, c);
   }
-  void record(const State<double>& s, const Workspace<double>& w, const Channels& c) {
-    std::vector<double> lam;
-    for (int r : stopRows_) lam.push_back(s.lambda[r] * w.rows[r].Ji.head<3>().norm());  // [N]: C is in m^2
-    res_.samples.push_back({c.t, c.Py, c.s.empty() ? 0.0 : c.s[0], c.h, c.delta.empty() ? 0.0 : c.delta[0],
-                            c.Pa.empty() ? 0.0 : c.Pa[0], std::move(lam), violation(s, w)});
+  // One row of the time histories from a workspace whose poses and force outputs are current, the
+  // multipliers, and the workspace holding the constraint rows at that state (the columns of
+  // historyColumns, in order).
+  void record(double t, const Workspace<double>& wk, const VecX<double>& lambda, const std::vector<char>& active,
+              const Workspace<double>& rowsW) {
+    Sample row;
+    row.t = t;
+    row.values.reserve(res_.columns.size());
+    const double* o = wk.outputs.data();
+    double Py = 0;
+    for (int off : tyreOut_) Py += o[off + 1];
+    if (!tyreOut_.empty()) row.values.push_back(Py);
+    if (airframe_ >= 0) row.values.push_back(sc_.up.dot(r0_ - wk.kin[airframe_].r));
+    for (int off : tyreOut_) {
+      row.values.push_back(o[off]);
+      if (tyreOut_.size() > 1) row.values.push_back(o[off + 1]);
+    }
+    for (size_t k = 0; k < strutOut_.size(); ++k)
+      for (int i = 0; i < strutOutputs_[k]; ++i) row.values.push_back(o[strutOut_[k] + i]);
+    for (int r : stopRows_) row.values.push_back(lambda[r] * rowsW.rows[r].Ji.head<3>().norm());  // [N]: C is in m^2
+    row.values.push_back(violationOf(active, rowsW));
+    res_.samples.push_back(std::move(row));
   }
-  double violation(const State<double>& s, const Workspace<double>& w) const {
+  // Rows at the output times inside (t0, t1], each from the dense output with its multipliers solved
+  // on the observer's workspace (the contact mode is the step's).
+  void recordUniform(const Model<double>& m, double t0, double t1, const State<double>& s, const DenseOutput<double>& d) {
+    const double dt = opt_.outputInterval;
+    for (;; ++nextRow_) {
+      const double t = static_cast<double>(nextRow_) * dt;
+      if (t > t1 * (1 + 1e-12) || t > case_.duration * (1 + 1e-12)) break;
+      if (t <= t0) continue;
+      d.at(std::min(t, t1), ytmp_);
+      lambdaTmp_ = s.lambda;
+      evaluate(m, ytmp_, s.active, lambdaTmp_, wo_, ydotTmp_);
+      forceOutputs(wo_);
+      record(t, wo_, lambdaTmp_, s.active, wo_);
+    }
+  }
+  double violation(const State<double>& s, const Workspace<double>& w) const { return violationOf(s.active, w); }
+  double violationOf(const std::vector<char>& active, const Workspace<double>& w) const {
     double v = 0;
     for (int k = 0; k < m_.nRows; ++k) {
-      if (!s.active[k]) continue;
+      if (!active[k]) continue;
       v = std::max(v, std::abs(w.rows[k].C) / std::max(1e-12, w.rows[k].Ji.head<3>().norm()));
     }
     return v;
@@ -380,7 +450,10 @@ class DropObserver {
   int airframe_ = -1;
   std::vector<int> tyreOut_, strutOut_, stopRows_, bottomRows_;
   Vec3<double> r0_ = Vec3<double>::Zero();
-  VecX<double> ytmp_;
+  Workspace<double> wo_;                  // the observer's own: dense-output channels and output rows
+  VecX<double> ytmp_, ydotTmp_, lambdaTmp_;
+  std::vector<int> strutOutputs_;         // per strut: its number of outputs
+  long nextRow_ = 0;                      // next uniform output row (outputInterval > 0)
   Channels prev_, end_, mid_, after_, scratch_;
   double e0_ = 0, ek0_ = 0, uExt0_ = 0;
   double workPy_ = 0, workPyAtMax_ = 0;
@@ -395,7 +468,6 @@ CaseResult runCase(const Scene& scene, const DropCase& c, const CaseOptions& opt
   const auto start = std::chrono::steady_clock::now();
   CaseResult res;
   res.metrics.name = c.name;
-  for (int ci : scene.roles.stops) res.stopNames.push_back(scene.model.constraints[ci].name);
   const Model<double> m = caseModel(scene, c);
   State<double> s = caseState(scene, m, c);
   Workspace<double> w(m);
@@ -467,7 +539,8 @@ double staticStroke(const Scene& scene, std::string* message, double duration) {
     if (message) *message = r.metrics.message;
     return std::numeric_limits<double>::quiet_NaN();
   }
-  return r.samples.back().s;
+  const int col = r.column(r.column("s") >= 0 ? "s" : "s_" + scene.model.forces[scene.roles.struts[0]].name);
+  return r.samples.back().values[col];
 }
 
 }  // namespace lg

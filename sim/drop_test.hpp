@@ -76,22 +76,34 @@ struct CaseMetrics {
   std::string limitViolations() const;
 };
 
-// One time-history sample.
+// A column of the time histories: name and SI unit ("P_y", "N"). Only what the scene declares has a
+// column: no tyre, no P_y and delta; no strut, no s, s_dot, p_1, P_a, P_gas, P_friction, P_orifice*.
+struct Column {
+  std::string name, unit;
+};
+// The columns of a scene's time histories after t [s]: P_y, h, each tyre's delta (and P_t with several
+// tyres), each strut's internals (s, s_dot, p_1, P_a, P_gas, P_friction, P_orifice1, P_orifice2 when
+// declared; suffixed "_<strut>" with several struts), each stop's force F_<stop>, and violation.
+std::vector<Column> historyColumns(const Scene& scene);
+
+// One row of the time histories: t [s] and the values of the columns.
 struct Sample {
-  double t, P_y, s, h, delta, P_a;
-  std::vector<double> stopLambda;  // per stop
-  double violation;
+  double t = 0;
+  std::vector<double> values;
 };
 
 struct CaseOptions {
-  bool record = false;       // keep every step's sample
+  bool record = false;         // keep time histories
+  double outputInterval = 0;   // [s] > 0: rows at t = 0, DT, 2 DT, ... from the dense output; 0: one per step
   std::function<bool()> stop;  // polled each step (Ctrl-C); null = never
 };
 
 struct CaseResult {
   CaseMetrics metrics;
+  std::vector<Column> columns;  // historyColumns(scene) when recorded
   std::vector<Sample> samples;
-  std::vector<std::string> stopNames;
+  // The index of a column by name (-1 if the scene has none such).
+  int column(const std::string& name) const;
 };
 
 // The total mass [kg] of a case: the scene's bodies with the case's mass overrides.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <filesystem>
 #include <sstream>
 #include <vector>
@@ -32,50 +33,73 @@ std::string quoted(const std::string& s) {
   return q + "'";
 }
 
-// The phases of a drop for the work diagrams: 0 the compression (up to the maximum), 1 the return
+// The channels a figure draws, by row: t h P_y s P_a delta (NaN where the scene has none).
+struct Rows {
+  std::vector<double> t, h, Py, s, Pa, delta;
+};
+Rows rowsOf(const CaseFigure& f, const CaseResult& r) {
+  auto col = [&](const std::string& base, const std::string& element) {
+    const int c = r.column(base);
+    return c >= 0 ? c : r.column(base + "_" + element);
+  };
+  const int ch = col("h", ""), cP = col("P_y", ""), cs = col("s", f.strut), ca = col("P_a", f.strut),
+            cd = col("delta", f.tyre);
+  Rows out;
+  for (const Sample& x : r.samples) {
+    auto v = [&](int c) { return c >= 0 ? x.values[c] : std::numeric_limits<double>::quiet_NaN(); };
+    out.t.push_back(x.t);
+    out.h.push_back(v(ch));
+    out.Py.push_back(v(cP));
+    out.s.push_back(v(cs));
+    out.Pa.push_back(v(ca));
+    out.delta.push_back(v(cd));
+  }
+  return out;
+}
+
+// The phases of a drop for the work diagrams: 0 the compression (up to the maximum of x), 1 the return
 // stroke (until the tyres leave the ground or the strut is extended, or a second compression begins),
 // 2 after it.
-std::vector<int> phases(const CaseResult& r, double Sample::*x, double Sample::*back) {
-  const auto& S = r.samples;
+std::vector<int> phases(const std::vector<double>& x, const std::vector<double>& back) {
   size_t iMax = 0;
-  for (size_t i = 0; i < S.size(); ++i)
-    if (S[i].*x > S[iMax].*x) iMax = i;
-  std::vector<int> p(S.size(), 2);
-  for (size_t i = 0; i <= iMax && i < S.size(); ++i) p[i] = 0;
-  for (size_t i = iMax + 1; i < S.size(); ++i) {  // up to lift-off, or the turn into a second compression
+  for (size_t i = 0; i < x.size(); ++i)
+    if (x[i] > x[iMax]) iMax = i;
+  std::vector<int> p(x.size(), 2);
+  for (size_t i = 0; i <= iMax && i < x.size(); ++i) p[i] = 0;
+  for (size_t i = iMax + 1; i < x.size(); ++i) {  // up to lift-off, or the turn into a second compression
     p[i] = 1;
-    if (!(S[i].*back > 0) || (i + 1 < S.size() && S[i + 1].*x > S[i].*x)) break;
+    if (!(back[i] > 0) || (i + 1 < x.size() && x[i + 1] > x[i])) break;
   }
   return p;
 }
 
 // Columns: t h P_y s P_a delta gear-phase strut-phase (phases above: the gear's by h and P_y, the
 // strut's by s).
-std::string samplesData(const CaseResult& r) {
-  const std::vector<int> gear = phases(r, &Sample::h, &Sample::P_y), strut = phases(r, &Sample::s, &Sample::s);
+std::string samplesData(const Rows& r) {
+  const std::vector<int> gear = phases(r.h, r.Py), strut = phases(r.s, r.s);
   std::ostringstream d;
   d << "# t[s] h[m] P_y[N] s[m] P_a[N] delta[m] gear_phase strut_phase (0 compression, 1 return, 2 after the return)\n";
-  for (size_t i = 0; i < r.samples.size(); ++i) {
-    const Sample& s = r.samples[i];
-    const std::string values = num(s.t) + " " + num(s.h) + " " + num(s.P_y) + " " + num(s.s) + " " + num(s.P_a) + " " +
-                               num(s.delta);
+  const size_t n = r.t.size();
+  for (size_t i = 0; i < n; ++i) {
+    const std::string values = num(r.t[i]) + " " + num(r.h[i]) + " " + num(r.Py[i]) + " " + num(r.s[i]) + " " +
+                               num(r.Pa[i]) + " " + num(r.delta[i]);
     d << values << " " << gear[i] << " " << strut[i] << "\n";
     // the return starts where the compression ends
-    if (i + 1 < r.samples.size() && (gear[i] == 0) != (gear[i + 1] == 0)) d << values << " 1 " << (strut[i] == 0 ? 0 : strut[i]) << "\n";
-    if (i + 1 < r.samples.size() && (strut[i] == 0) != (strut[i + 1] == 0)) d << values << " " << (gear[i] == 0 ? 0 : gear[i]) << " 1\n";
+    if (i + 1 < n && (gear[i] == 0) != (gear[i + 1] == 0)) d << values << " 1 " << strut[i] << "\n";
+    if (i + 1 < n && (strut[i] == 0) != (strut[i + 1] == 0)) d << values << " " << gear[i] << " 1\n";
   }
   return d.str();
 }
 
 // The range of a channel over the compression and the return stroke.
-void workRange(const CaseResult& r, double Sample::*x, double Sample::*back, double& lo, double& hi) {
-  const std::vector<int> p = phases(r, x, back);
+void workRange(const std::vector<double>& x, const std::vector<double>& back, double& lo, double& hi) {
+  const std::vector<int> p = phases(x, back);
   lo = 0;
   hi = 0;
-  for (size_t i = 0; i < r.samples.size(); ++i)
-    if (p[i] < 2) {
-      lo = std::min(lo, r.samples[i].*x);
-      hi = std::max(hi, r.samples[i].*x);
+  for (size_t i = 0; i < x.size(); ++i)
+    if (p[i] < 2 && std::isfinite(x[i])) {
+      lo = std::min(lo, x[i]);
+      hi = std::max(hi, x[i]);
     }
 }
 
@@ -93,14 +117,12 @@ std::string hline(double y, const char* colour, const std::string& name) {
 }
 }  // namespace
 
-std::string safeFileStem(const std::string& name) {
-  std::string s;
-  for (unsigned char c : name) s += (std::isalnum(c) || c == '-' || c == '_' || c == '.') ? static_cast<char>(c) : '_';
-  while (!s.empty() && s[0] == '.') s[0] = '_';
-  return s.empty() ? "case" : s;
-}
-
 bool haveGnuplot() { return std::system("command -v gnuplot >/dev/null 2>&1") == 0; }
+
+void CaseFigure::drawElementsOf(const Scene& scene) {
+  if (!scene.roles.struts.empty()) strut = scene.model.forces[scene.roles.struts[0]].name;
+  if (!scene.roles.tyres.empty()) tyre = scene.model.forces[scene.roles.tyres[0]].name;
+}
 
 PlotLimits sceneLimits(const Scene& scene) {
   PlotLimits l;
@@ -113,9 +135,11 @@ PlotLimits sceneLimits(const Scene& scene) {
 bool drawCaseFigure(const CaseFigure& f, const std::string& dir, const std::string& stem, bool run, std::string* why) {
   namespace fs = std::filesystem;
   const fs::path d(dir);
-  writeFileAtomic((d / (stem + ".dat")).string(), samplesData(*f.run));
+  const Rows rows = rowsOf(f, *f.run);
+  writeFileAtomic((d / (stem + ".dat")).string(), samplesData(rows));
   const bool base = f.baseline != nullptr;
-  if (base) writeFileAtomic((d / (stem + "_baseline.dat")).string(), samplesData(*f.baseline));
+  const Rows baseline = base ? rowsOf(f, *f.baseline) : Rows{};
+  if (base) writeFileAtomic((d / (stem + "_baseline.dat")).string(), samplesData(baseline));
   const std::string dat = quoted(stem + ".dat"), bdat = quoted(stem + "_baseline.dat");
   const PlotLimits& L = f.limits;
   std::ostringstream gp;
@@ -151,10 +175,10 @@ bool drawCaseFigure(const CaseFigure& f, const std::string& dir, const std::stri
   // P_y(h)
   gp << "set title 'work diagram P_y(h), compression and return stroke'\nset xlabel 'h [m]'\nset ylabel 'P_y [kN]'\n";
   double lo = 0, hi = 0;
-  workRange(*f.run, &Sample::h, &Sample::P_y, lo, hi);
+  workRange(rows.h, rows.Py, lo, hi);
   if (base) {
     double blo = 0, bhi = 0;
-    workRange(*f.baseline, &Sample::h, &Sample::P_y, blo, bhi);
+    workRange(baseline.h, baseline.Py, blo, bhi);
     lo = std::min(lo, blo);
     hi = std::max(hi, bhi);
   }
@@ -167,7 +191,7 @@ bool drawCaseFigure(const CaseFigure& f, const std::string& dir, const std::stri
      << (L.strokeMargin != L.strokeLimit ? hline(L.strokeMargin, "#ff7f0e", "S_max - margin [m]") : "") << "\n";
   // P_a(s)
   gp << "set title 'strut work diagram P_a(s), compression and return stroke'\nset xlabel 's [m]'\nset ylabel 'P_a [kN]'\n";
-  workRange(*f.run, &Sample::s, &Sample::s, lo, hi);
+  workRange(rows.s, rows.s, lo, hi);
   if (std::isfinite(L.strokeLimit)) hi = std::max(hi, L.strokeLimit);
   gp << "set xrange [" << num(lo - 0.03 * (hi - lo)) << ":" << num(hi + 0.03 * (hi - lo)) << "]\n";
   if (std::isfinite(L.strokeLimit)) {

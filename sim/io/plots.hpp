@@ -9,6 +9,7 @@
 #include <string>
 
 #include "sim/drop_test.hpp"
+#include "sim/io/files.hpp"  // safeFileStem
 
 namespace lg {
 
@@ -28,6 +29,9 @@ struct CaseFigure {
   const CaseResult* baseline = nullptr;  // optional: a second run drawn in grey ("baseline")
   std::string runLabel = "compression", baselineLabel = "baseline";
   PlotLimits limits;
+  std::string strut, tyre;  // the elements drawn when the scene has several (their columns "s_<strut>", ...)
+  // Draws the scene's first strut and first tyre.
+  void drawElementsOf(const Scene& scene);
 };
 
 // True when gnuplot can be run.
@@ -40,9 +44,5 @@ PlotLimits sceneLimits(const Scene& scene);
 // false with the reason when gnuplot is missing or fails (data and script are written regardless).
 // STEM must be a safe file stem (safeFileStem). Throws std::runtime_error if a file cannot be written.
 bool drawCaseFigure(const CaseFigure& f, const std::string& dir, const std::string& stem, bool run, std::string* why);
-
-// A file stem made from a name: letters, digits, '-', '_' and '.' kept, anything else '_', never empty,
-// never starting with '.'; "case" if nothing is left.
-std::string safeFileStem(const std::string& name);
 
 }  // namespace lg

@@ -3,48 +3,35 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 namespace lg {
 
-std::vector<std::string> historyColumns(const Scene& scene) {
-  std::vector<std::string> c{"t"};
-  if (!scene.roles.tyres.empty()) c.push_back("P_y");
-  if (!scene.roles.struts.empty()) c.push_back("s");
-  if (!scene.roles.airframe.empty()) c.push_back("h");
-  if (!scene.roles.tyres.empty()) c.push_back("delta");
-  if (!scene.roles.struts.empty()) c.push_back("P_a");
-  for (int ci : scene.roles.stops) c.push_back("F_" + scene.model.constraints[ci].name);
-  c.push_back("violation");
-  return c;
+std::string historyHeader(const CaseResult& r) {
+  std::string h = "t[s]";
+  for (const Column& c : r.columns) h += "," + c.name + "[" + c.unit + "]";
+  return h;
 }
 
-void writeHistoryCsv(const Scene& scene, const CaseResult& r, const std::string& path) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error(path + ": cannot write");
-  const auto cols = historyColumns(scene);
-  for (size_t i = 0; i < cols.size(); ++i) out << (i ? "," : "") << cols[i];
-  out << "\n";
-  const bool tyre = !scene.roles.tyres.empty(), strut = !scene.roles.struts.empty(), af = !scene.roles.airframe.empty();
-  char buf[64];
-  auto put = [&](double v) {
-    std::snprintf(buf, sizeof buf, ",%.10g", v);
-    out << buf;
-  };
+std::string historyCsv(const CaseResult& r) {
+  // Round-off-sized values (|v| below 1e-12 of the column's largest) are written as 0.
+  std::vector<double> scale(r.columns.size(), 0.0);
+  for (const Sample& s : r.samples)
+    for (size_t i = 0; i < s.values.size() && i < scale.size(); ++i) scale[i] = std::max(scale[i], std::abs(s.values[i]));
+  std::string out = historyHeader(r) + "\n";
+  char buf[48];
   for (const Sample& s : r.samples) {
     std::snprintf(buf, sizeof buf, "%.10g", s.t);
-    out << buf;
-    if (tyre) put(s.P_y);
-    if (strut) put(s.s);
-    if (af) put(s.h);
-    if (tyre) put(s.delta);
-    if (strut) put(s.P_a);
-    for (double l : s.stopLambda) put(l);
-    put(s.violation);
-    out << "\n";
+    out += buf;
+    for (size_t i = 0; i < s.values.size(); ++i) {
+      const double v = std::abs(s.values[i]) <= 1e-12 * scale[i] ? 0.0 : s.values[i];
+      std::snprintf(buf, sizeof buf, ",%.10g", v);
+      out += buf;
+    }
+    out += "\n";
   }
+  return out;
 }
 
 std::string metricsJson(const CaseMetrics& m, const std::string& in) {
@@ -104,15 +91,44 @@ std::string metricsJson(const CaseMetrics& m, const std::string& in) {
   return o.str();
 }
 
-void writeSummaryJson(const Scene& scene, const std::vector<CaseResult>& results, const std::string& path) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error(path + ": cannot write");
+std::string summaryJson(const Scene& scene, const std::vector<CaseResult>& results) {
+  std::ostringstream out;
   out << "{\n  \"scene\": " << jsonString(scene.file) << ",\n  \"cases\": {\n";
   for (size_t i = 0; i < results.size(); ++i) {
     out << "    " << jsonString(results[i].metrics.name) << ": " << metricsJson(results[i].metrics, "    ")
         << (i + 1 < results.size() ? ",\n" : "\n");
   }
   out << "  }\n}\n";
+  return out.str();
+}
+
+std::string summaryCsv(const std::vector<CaseResult>& results) {
+  std::string out = "case,ok,sink_speed[m/s],lift_ratio[-],mass[kg],peak_load[N],t_peak[s],load_factor[-],"
+                    "inertia_load_factor[-],stroke_max[m],stroke_margin[m],h_max[m],tyre_deflection_max[m],"
+                    "tyre_margin[m],efficiency[-],strut_efficiency[-],strut_force_max[N],energy_absorbed[J],"
+                    "energy_to_absorb[J],energy_dissipated[J],energy_balance_error[-],rebound_velocity[m/s],"
+                    "bottomed,within_limits,violations,steps,rhs_evaluations,wall_time[s]\n";
+  auto num = [](double v) {
+    if (!std::isfinite(v)) return std::string();
+    char b[40];
+    std::snprintf(b, sizeof b, "%.10g", v);
+    return std::string(b);
+  };
+  for (const CaseResult& r : results) {
+    const CaseMetrics& m = r.metrics;
+    std::string viol = m.limitViolations();
+    for (char& c : viol)
+      if (c == '"') c = '\'';
+    out += m.name + "," + (m.ok ? "1" : "0");
+    for (double v : {m.sink_speed_mps, m.lift_ratio, m.mass_kg, m.peak_load_N, m.t_peak_s, m.load_factor,
+                     m.inertia_load_factor, m.stroke_max_m, m.stroke_margin_m, m.h_max_m, m.tyre_deflection_max_m,
+                     m.tyre_margin_m, m.efficiency, m.strut_efficiency, m.strut_force_max_N, m.energy_absorbed_J,
+                     m.energy_to_absorb_J, m.energy_dissipated_J, m.energy_balance_error, m.rebound_velocity_mps})
+      out += "," + num(v);
+    out += std::string(",") + (m.bottomed ? "1" : "0") + "," + (m.withinLimits() ? "1" : "0") + ",\"" + viol + "\"," +
+           std::to_string(m.steps) + "," + std::to_string(m.rhs_evaluations) + "," + num(m.wall_time_s) + "\n";
+  }
+  return out;
 }
 
 }  // namespace lg

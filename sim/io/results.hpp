@@ -1,4 +1,5 @@
-// Writing drop-test results: per-case CSV time histories and summary.json (pictures: sim/io/plots.hpp).
+// Drop-test results as text, shared by every program: a case's time histories as CSV (units in the
+// header), summary.json and summary.csv. Pictures: sim/io/plots.hpp. Writing: sim/io/files.hpp.
 #pragma once
 
 #include <string>
@@ -9,10 +10,16 @@
 
 namespace lg {
 
-// Column names of a case's CSV for this scene: only what the scene declares.
-std::vector<std::string> historyColumns(const Scene& scene);
-void writeHistoryCsv(const Scene& scene, const CaseResult& r, const std::string& path);
+// "t[s],P_y[N],h[m],..." for a recorded case.
+std::string historyHeader(const CaseResult& r);
+// The CSV of a recorded case: the header, then one row per sample (10 significant digits; round-off-
+// sized values, below 1e-12 of their column's largest, written as 0).
+std::string historyCsv(const CaseResult& r);
+// One case's metrics as a JSON object (README "Metrics").
 std::string metricsJson(const CaseMetrics& m, const std::string& indent = "  ");
-void writeSummaryJson(const Scene& scene, const std::vector<CaseResult>& results, const std::string& path);
+// summary.json: the scene and every case's metrics.
+std::string summaryJson(const Scene& scene, const std::vector<CaseResult>& results);
+// summary.csv: one row per case, units in the header.
+std::string summaryCsv(const std::vector<CaseResult>& results);
 
 }  // namespace lg

@@ -45,6 +45,9 @@ struct Pose {
 // Reads a two-column CSV table (header "stroke,area" or any two names) through fast-cpp-csv-parser.
 std::shared_ptr<const Table1D> readTable(const std::string& path, const TomlReader& r, const std::string& key) {
   std::vector<double> x, y;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    r.fail(key, "cannot read table '" + path + "': " + (std::filesystem::exists(path, ec) ? "not a regular file" : "no such file"));
   try {
     io::CSVReader<2, io::trim_chars<' ', '\t'>, io::no_quote_escape<','>, io::throw_on_overflow, io::single_and_empty_line_comment<'#'>> in(path);
     in.read_header(io::ignore_no_column, "stroke", "area");
@@ -83,6 +86,49 @@ int bottomingStopOf(const Model<double>& m, const ShockAbsorber<double>& s) {
   return -1;
 }
 
+// The joints' rows must be independent at touchdown: a joint whose row is a combination of earlier
+// rows over-constrains the mechanism (its multipliers have no unique solution and every case would
+// fail). Names the joint and the joints it repeats.
+void checkRedundantJoints(const Model<double>& m, const Workspace<double>& w, const std::string& file,
+                          const std::vector<int>& constraintLine) {
+  const int N = m.nBodies();
+  std::vector<int> kept;                  // independent rows so far
+  std::vector<Eigen::VectorXd> basis;     // their orthonormalised directions
+  auto rowVector = [&](int k) {
+    Eigen::VectorXd v = Eigen::VectorXd::Zero(6 * N);
+    const RowInfo& ri = m.rowInfo[k];
+    if (ri.bi >= 0) v.segment<6>(6 * ri.bi) += w.rows[k].Ji;
+    if (ri.bj >= 0) v.segment<6>(6 * ri.bj) += w.rows[k].Jj;
+    return v;
+  };
+  for (int k = 0; k < m.nRows; ++k) {
+    if (m.rowInfo[k].unilateral) continue;
+    const Eigen::VectorXd v = rowVector(k);
+    Eigen::VectorXd r = v;
+    for (int pass = 0; pass < 2; ++pass)  // Gram-Schmidt, twice for round-off
+      for (const auto& b : basis) r -= b.dot(r) * b;
+    if (r.norm() > 1e-8 * std::max(1.0, v.norm())) {
+      basis.push_back(r / r.norm());
+      kept.push_back(k);
+      continue;
+    }
+    // Which earlier joints it repeats: the least-squares combination of the kept rows.
+    Eigen::MatrixXd A(6 * N, static_cast<Eigen::Index>(kept.size()));
+    for (size_t i = 0; i < kept.size(); ++i) A.col(static_cast<Eigen::Index>(i)) = rowVector(kept[i]);
+    const Eigen::VectorXd c = A.colPivHouseholderQr().solve(v);
+    std::set<std::string> others;
+    for (size_t i = 0; i < kept.size(); ++i)
+      if (std::abs(c[static_cast<Eigen::Index>(i)]) > 1e-6) others.insert("'" + m.constraints[m.rowInfo[kept[i]].constraint].name + "'");
+    std::string list;
+    for (const auto& o : others) list += (list.empty() ? "" : ", ") + o;
+    const int ci = m.rowInfo[k].constraint;
+    throw InputError(file, constraintLine[ci], "joint." + m.constraints[ci].name,
+                     "this joint over-constrains the mechanism: its row " + std::to_string(k - m.rowOffset[ci]) +
+                         " repeats what joint" + (others.size() > 1 ? "s " + list + " already hold" : " " + list + " already holds") +
+                         " (remove it, or use a joint that removes fewer degrees of freedom)");
+  }
+}
+
 }  // namespace
 
 Scene buildScene(const toml::table& doc, const std::string& file, const std::string& baseDir) {
@@ -99,16 +145,14 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   }
   // [scene]
   std::string airframe;
-  if (const toml::table* t = doc["scene"].as_table()) {
+  if (const toml::table* t = tableOf(doc, "scene", file)) {
     TomlReader r(*t, file, "scene");
     r.allowOnly({"name", "airframe", "description"});
-    sc.name = r.string("name", "scene");
+    sc.name = r.name("name", "scene");
     airframe = r.string("airframe", "");
-  } else if (doc.contains("scene")) {
-    throw InputError(file, 0, "scene", "must be a table [scene]");
   }
   // [solver]
-  if (const toml::table* t = doc["solver"].as_table()) {
+  if (const toml::table* t = tableOf(doc, "solver", file)) {
     TomlReader r(*t, file, "solver");
     r.allowOnly({"multipliers", "integrator", "stabilization", "rtol", "atol", "step", "max_step", "max_steps",
                  "projection_tolerance", "baumgarte_alpha", "baumgarte_beta", "gauss_seidel_iterations",
@@ -130,11 +174,11 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     s.atol = r.positive("atol", s.atol);
     s.step = r.positive("step", s.step);
     s.maxStep = r.positive("max_step", s.maxStep);
-    s.maxSteps = static_cast<long>(r.positive("max_steps", double(s.maxSteps)));
+    s.maxSteps = static_cast<long>(r.count("max_steps", s.maxSteps, 1, 1000000000000LL));
     s.projectionTolerance = r.positive("projection_tolerance", s.projectionTolerance);
     s.baumgarteAlpha = r.nonNegative("baumgarte_alpha", s.baumgarteAlpha);
     s.baumgarteBeta = r.nonNegative("baumgarte_beta", s.baumgarteBeta);
-    s.gaussSeidelIterations = static_cast<int>(r.positive("gauss_seidel_iterations", s.gaussSeidelIterations));
+    s.gaussSeidelIterations = static_cast<int>(r.count("gauss_seidel_iterations", s.gaussSeidelIterations, 1, 1000000000));
     s.gaussSeidelTolerance = r.positive("gauss_seidel_tolerance", s.gaussSeidelTolerance);
     s.contactTolerance = r.positive("contact_tolerance", s.contactTolerance);
     s.eventTolerance = r.positive("event_tolerance", s.eventTolerance);
@@ -143,8 +187,8 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   std::vector<Pose> poses;
   std::set<std::string> names;
   auto uniqueName = [&](const TomlReader& r) {
-    const std::string n = r.string("name");
-    if (n.empty() || n == "ground") r.fail("name", "'" + n + "' is reserved or empty");
+    const std::string n = r.name("name");
+    if (n == "ground") r.fail("name", "'ground' is reserved for the fixed frame");
     if (!names.insert(n).second) r.fail("name", "'" + n + "' is already used by another element");
     return n;
   };
@@ -166,11 +210,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       const toml::array* a = (*bodies[i])["quaternion"].as_array();
       if (!a || a->size() != 4) r.fail("quaternion", "must be 4 numbers [w, a, b, c]");
       Vec4<double> q;
-      for (int k = 0; k < 4; ++k) {
-        auto v = a->get(k)->value<double>();
-        if (!v) r.fail("quaternion", "must be 4 numbers [w, a, b, c]");
-        q[k] = *v;
-      }
+      for (int k = 0; k < 4; ++k) q[k] = r.toNumber(*a->get(k), "quaternion");
       if (std::abs(q.norm() - 1) > 1e-6) r.fail("quaternion", "must be a unit quaternion (|q| = " + fmt(q.norm()) + ")");
       p.R = rotation<double>(q.normalized());
     } else {
@@ -203,23 +243,26 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     const toml::table* t = joints[i];
     TomlReader r(*t, file, "joint[" + std::to_string(i) + "]");
     const std::string type = r.string("type");
+    // The keys of each type, checked before any is read (a misspelt key is named as unknown).
+    if (type == "spherical" || type == "fixed") r.allowOnly({"name", "type", "body1", "body2", "point"});
+    else if (type == "revolute" || type == "sliding" || type == "prismatic")
+      r.allowOnly({"name", "type", "body1", "body2", "point", "axis"});
+    else if (type == "point_on_plane") r.allowOnly({"name", "type", "body1", "body2", "point", "plane_point", "normal"});
+    else r.fail("type", "value '" + type + "' must be one of spherical, revolute, sliding, prismatic, fixed, point_on_plane");
     Constraint<double> c;
     c.name = r.has("name") ? uniqueName(r) : "joint" + std::to_string(i);
     const int bi = bodyRef(r, "body1"), bj = bodyRef(r, "body2");
     if (bi == bj) r.fail("body2", "a joint needs two different bodies");
     if (bi < 0) r.fail("body1", "body1 must be a body; put the ground as body2");
     if (type == "spherical") {
-      r.allowOnly({"name", "type", "body1", "body2", "point"});
       const Vec3<double> p = r.vec3("point");
       c.type = Spherical<double>{bi, bj, toBody(bi, p), toBody(bj, p)};
     } else if (type == "revolute") {
-      r.allowOnly({"name", "type", "body1", "body2", "point", "axis"});
       const Vec3<double> p = r.vec3("point"), e = r.unitVec3("axis");
       Vec3<double> t1, t2;
       orthonormalBasis(e, t1, t2);
       c.type = Revolute<double>{bi, bj, toBody(bi, p), toBody(bj, p), toBody(bi, p + e), dirToBody(bj, t1), dirToBody(bj, t2)};
     } else if (type == "sliding" || type == "prismatic") {
-      r.allowOnly({"name", "type", "body1", "body2", "point", "axis"});
       const Vec3<double> p = r.vec3("point"), e = r.unitVec3("axis");
       Vec3<double> t1, t2;
       orthonormalBasis(e, t1, t2);
@@ -229,13 +272,11 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
         c.type = Prismatic<double>{bi, bj, toBody(bi, p), toBody(bi, p + e), toBody(bi, p + t1), toBody(bj, p),
                                    dirToBody(bj, t1), dirToBody(bj, t2)};
     } else if (type == "fixed") {
-      r.allowOnly({"name", "type", "body1", "body2", "point"});
       const Vec3<double> p = r.vec3("point");
       c.type = Fixed<double>{bi, bj, toBody(bi, p), toBody(bj, p), toBody(bi, p + Vec3<double>(1, 0, 0)),
                              toBody(bi, p + Vec3<double>(0, 1, 0)), dirToBody(bj, Vec3<double>(0, 1, 0)),
                              dirToBody(bj, Vec3<double>(0, 0, 1))};
     } else if (type == "point_on_plane") {
-      r.allowOnly({"name", "type", "body1", "body2", "point", "plane_point", "normal"});
       const Vec3<double> p = r.vec3("point"), n = r.unitVec3("normal");
       c.type = PointOnPlane<double>{bi, bj, toBody(bi, p), toBody(bj, r.vec3("plane_point", p)), dirToBody(bj, n)};
     } else {
@@ -441,6 +482,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
                              fmt(std::abs(C) / scale) + " m (tolerance 1e-6 m): check its points against the bodies");
       }
     }
+    checkRedundantJoints(m, w, file, constraintLine);
   }
   // [[case]]
   const auto cases = tablesOf(doc, "case", file);
@@ -449,7 +491,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     TomlReader r(*cases[i], file, "case[" + std::to_string(i) + "]");
     r.allowOnly({"name", "sink_speed", "lift_ratio", "duration", "masses"});
     DropCase c;
-    c.name = r.string("name");
+    c.name = r.name("name");
     if (!caseNames.insert(c.name).second) r.fail("name", "case '" + c.name + "' is defined twice");
     c.sinkSpeed = r.number("sink_speed");
     if (!(c.sinkSpeed > 0))
@@ -476,56 +518,12 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   return sc;
 }
 
-namespace {
-// The key of the statement a TOML syntax error at 'line' (1-based) belongs to: the left-hand side of
-// the nearest assignment at or above it (a multi-line array continues its first line's statement), or
-// the header on the error line itself; "" if none. toml++ reports where it noticed the error only.
-std::string syntaxErrorKey(const std::string& text, int line) {
-  std::vector<std::string> lines;
-  {
-    std::istringstream in(text);
-    for (std::string l; std::getline(in, l);) lines.push_back(l);
-  }
-  auto content = [&](int i) {  // line i without its comment, trimmed
-    std::string l = lines[i].substr(0, lines[i].find('#'));
-    const auto a = l.find_first_not_of(" \t\r"), b = l.find_last_not_of(" \t\r");
-    return a == std::string::npos ? std::string() : l.substr(a, b - a + 1);
-  };
-  auto openBracket = [](const std::string& l) { return std::count(l.begin(), l.end(), '[') > std::count(l.begin(), l.end(), ']'); };
-  for (int i = std::min(line, static_cast<int>(lines.size())) - 1; i >= 0; --i) {
-    const std::string l = content(i);
-    if (l.empty()) continue;
-    if (l[0] == '[') {
-      if (i != line - 1) return "";
-      int j = i - 1;
-      while (j >= 0 && content(j).empty()) --j;
-      if (j >= 0 && openBracket(content(j))) continue;  // a value above is still open
-      return l;
-    }
-    const auto eq = l.find('=');
-    if (eq != std::string::npos) {
-      std::string k = l.substr(0, eq);
-      k.erase(k.find_last_not_of(" \t") + 1);
-      return k;
-    }
-  }
-  return "";
-}
-}  // namespace
-
 Scene parseScene(const std::string& text, const std::string& file, const std::string& baseDir) {
-  toml::table doc;
-  try {
-    doc = toml::parse(text, file);
-  } catch (const toml::parse_error& e) {
-    const int line = static_cast<int>(e.source().begin.line);
-    throw InputError(file, line, syntaxErrorKey(text, line), "TOML syntax: " + std::string(e.description()));
-  }
-  return buildScene(doc, file, baseDir);
+  return buildScene(parseToml(text, file), file, baseDir);
 }
 
 Scene loadScene(const std::string& path) {
-  const std::string text = readText(path);
+  const std::string text = readText(path, "scene file");
   std::string base = std::filesystem::path(path).parent_path().string();
   if (base.empty()) base = ".";
   return parseScene(text, path, base);

@@ -2,7 +2,10 @@
 #include "sim/io/toml_reader.hpp"
 
 #include <cmath>
+#include <algorithm>
+#include <cctype>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -17,6 +20,18 @@ std::string fmt(double v) {
   o.precision(10);
   o << v;
   return o.str();
+}
+
+bool isName(const std::string& s) {
+  if (s.empty() || s.size() > 64) return false;
+  if (!(std::isalnum(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  for (unsigned char c : s)
+    if (!(std::isalnum(c) || c == '_' || c == '-' || c == '.')) return false;
+  return true;
+}
+std::string nameRule() {
+  return "must be 1 to 64 letters, digits, '_', '-' or '.', starting with a letter, a digit or '_' (names become "
+         "file names and CSV columns)";
 }
 
 // ---- TomlReader ------------------------------------------------------------------------------------
@@ -65,6 +80,21 @@ long long TomlReader::integer(const std::string& key, long long def) const {
   if (!n->is_integer()) fail(key, "must be an integer");
   return *n->value<int64_t>();
 }
+long long TomlReader::count(const std::string& key, long long def, long long lo, long long hi) const {
+  const toml::node* n = t_.get(key);
+  if (!n) return def;
+  const double v = toNumber(*n, key);
+  if (v != std::floor(v)) fail(key, "value " + fmt(v) + " must be a whole number");
+  if (!(v >= static_cast<double>(lo) && v <= static_cast<double>(hi)))
+    fail(key, "value " + fmt(v) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return static_cast<long long>(v);
+}
+std::string TomlReader::name(const std::string& key) const {
+  const std::string v = string(key);
+  if (!isName(v)) fail(key, "name '" + v + "' " + nameRule());
+  return v;
+}
+std::string TomlReader::name(const std::string& key, const std::string& def) const { return has(key) ? name(key) : def; }
 std::string TomlReader::string(const std::string& key) const {
   const toml::node* n = t_.get(key);
   if (!n) fail(key, "missing required string");
@@ -132,11 +162,84 @@ const toml::table* tableOf(const toml::table& doc, const std::string& key, const
   const toml::node* n = doc.get(key);
   if (!n) return nullptr;
   const toml::table* t = n->as_table();
-  if (!t) throw InputError(file, lineOfNode(*n), key, "must be a table [" + key + "]");
+  if (!t) {
+    int line = lineOfNode(*n);  // an array of tables has no line of its own: its first table's
+    if (const toml::array* a = n->as_array(); line == 0 && a && !a->empty()) line = lineOfNode(*a->get(0));
+    throw InputError(file, line, key,
+                     std::string("must be a table [") + key + "]" + (n->is_array_of_tables() ? ", not an array of tables [[" + key + "]]" : ""));
+  }
   return t;
 }
 
+namespace {
+// The key of the statement a TOML syntax error at 'line' (1-based) belongs to: the left-hand side of
+// the nearest assignment at or above it (a multi-line array continues its first line's statement), or
+// the header on the error line itself; "" if none. toml++ reports where it noticed the error only.
+std::string syntaxErrorKey(const std::string& text, int line) {
+  std::vector<std::string> lines;
+  {
+    std::istringstream in(text);
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+  }
+  auto content = [&](int i) {  // line i without its comment, trimmed
+    std::string l = lines[i].substr(0, lines[i].find('#'));
+    const auto a = l.find_first_not_of(" \t\r"), b = l.find_last_not_of(" \t\r");
+    return a == std::string::npos ? std::string() : l.substr(a, b - a + 1);
+  };
+  auto openBracket = [](const std::string& l) { return std::count(l.begin(), l.end(), '[') > std::count(l.begin(), l.end(), ']'); };
+  for (int i = std::min(line, static_cast<int>(lines.size())) - 1; i >= 0; --i) {
+    const std::string l = content(i);
+    if (l.empty()) continue;
+    if (l[0] == '[') {
+      if (i != line - 1) return "";
+      int j = i - 1;
+      while (j >= 0 && content(j).empty()) --j;
+      if (j >= 0 && openBracket(content(j))) continue;  // a value above is still open
+      return l;
+    }
+    const auto eq = l.find('=');
+    if (eq == std::string::npos && i == line - 1 && (std::isalpha(static_cast<unsigned char>(l[0])) || l[0] == '_'))
+      return l.substr(0, l.find_first_of(" \t"));  // "mass 20.0": a key without its '='
+    if (eq != std::string::npos) {
+      std::string k = l.substr(0, eq);
+      k.erase(k.find_last_not_of(" \t") + 1);
+      return k;
+    }
+  }
+  return "";
+}
+}  // namespace
+
+toml::table parseToml(const std::string& text, const std::string& file) {
+  try {
+    return toml::parse(text, file);
+  } catch (const toml::parse_error& e) {
+    int line = static_cast<int>(e.source().begin.line);
+    const std::string what(e.description());
+    // An unterminated multi-line string is noticed at the end of the file: name the line it opens on.
+    if (what.find("end-of-file") != std::string::npos)
+      for (const char* q : {"\"\"\"", "\'\'\'"}) {
+        size_t count = 0, last = std::string::npos;
+        for (size_t pos = text.find(q); pos != std::string::npos; pos = text.find(q, pos + 3)) {
+          ++count;
+          last = pos;
+        }
+        if (count % 2 == 1) {
+          line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(last), '\n'));
+          throw InputError(file, line, syntaxErrorKey(text, line),
+                           std::string("TOML syntax: a multi-line string opened here (") + q + ") is never closed");
+        }
+      }
+    throw InputError(file, line, syntaxErrorKey(text, line), "TOML syntax: " + what);
+  }
+}
+
 std::string readText(const std::string& path, const std::string& what) {
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(st)) throw InputError(path, 0, "", "cannot open the " + what + ": no such file");
+  if (!std::filesystem::is_regular_file(st))
+    throw InputError(path, 0, "", "cannot read the " + what + ": not a regular file (a directory, a pipe or a device)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "", "cannot open the " + what);
   std::ostringstream s;

@@ -17,6 +17,10 @@ namespace lg {
 // A number as the error messages write it (10 significant digits).
 std::string fmt(double v);
 
+// True for a valid element or case name (TomlReader::name); nameRule() says the rule in words.
+bool isName(const std::string& s);
+std::string nameRule();
+
 // One table of an input file: typed getters that throw InputError(file, line, prefix.key, rule), and a
 // closed set of keys. A getter with a default returns it unchecked when the key is absent: the rules
 // apply to what the file says, not to the program's own defaults.
@@ -43,6 +47,12 @@ class TomlReader {
   double positive(const std::string& key, double def) const;
   double nonNegative(const std::string& key, double def) const;
   long long integer(const std::string& key, long long def) const;
+  // A count: a whole number in [lo, hi] (a TOML integer, or a float with an integral value, 1e6).
+  long long count(const std::string& key, long long def, long long lo, long long hi) const;
+  // A name that becomes file names and CSV columns: letters, digits, '_', '-' and '.', starting with a
+  // letter, a digit or '_', at most 64 characters (isName).
+  std::string name(const std::string& key) const;
+  std::string name(const std::string& key, const std::string& def) const;
   std::string string(const std::string& key) const;
   std::string string(const std::string& key, const std::string& def) const;
   bool boolean(const std::string& key, bool def) const;
@@ -67,7 +77,12 @@ std::vector<const toml::table*> tablesOf(const toml::table& doc, const std::stri
 // The table 'key' of doc (absent: nullptr). Errors if it is something else.
 const toml::table* tableOf(const toml::table& doc, const std::string& key, const std::string& file);
 
-// The whole file; InputError(path, 0, "", "cannot open the <what>") if it cannot be read.
+// Parses TOML text; a syntax error is an InputError naming the file, the line and the key of the
+// statement it belongs to (an unterminated multi-line string: the line it opens on).
+toml::table parseToml(const std::string& text, const std::string& file);
+
+// The whole file; InputError(path, 0, "", "cannot open the <what>") if it cannot be read, and for
+// anything but a regular file (a directory, a pipe: never blocks on a FIFO).
 std::string readText(const std::string& path, const std::string& what = "file");
 
 }  // namespace lg

@@ -287,7 +287,10 @@ TEST_CASE("study: bad files name file, line and key", "[optim][study]") {
     t.replace(t.find("\"limit\""), 7, "\"limmit\"");
     expectError("case.cfg", t, 3, "case[0].name", "not a case of the scene or of its certification matrix");
   }
-  SECTION("TOML syntax") { expectError("syntax.cfg", study(v + "upper = = 3\n"), 17, "", "TOML syntax"); }
+  SECTION("TOML syntax") {
+    expectError("syntax.cfg", study(v + "upper = = 3\n"), 17, "upper", "TOML syntax");
+    expectError("syntax2.cfg", study(v + "log true\n"), 17, "log", "TOML syntax");
+  }
   SECTION("bad solver settings") {
     expectError("solver1.cfg", study(v, "[solver]\nintegrator = \"rk5\"\n"), 18, "solver.integrator", "ros34pw2");
     expectError("solver2.cfg", study(v, "[solver]\nrtol = -1e-4\n"), 18, "solver.rtol", "> 0");

@@ -40,11 +40,9 @@ std::string difference(const lg::CaseResult& a, const lg::CaseResult& b) {
   if (a.samples.size() != b.samples.size()) return "number of samples";
   for (size_t i = 0; i < a.samples.size(); ++i) {
     const lg::Sample &p = a.samples[i], &q = b.samples[i];
-    if (!same(p.t, q.t) || !same(p.P_y, q.P_y) || !same(p.s, q.s) || !same(p.h, q.h) || !same(p.delta, q.delta) ||
-        !same(p.P_a, q.P_a) || !same(p.violation, q.violation) || p.stopLambda.size() != q.stopLambda.size())
-      return "sample " + std::to_string(i);
-    for (size_t k = 0; k < p.stopLambda.size(); ++k)
-      if (!same(p.stopLambda[k], q.stopLambda[k])) return "sample " + std::to_string(i) + " stop force";
+    if (!same(p.t, q.t) || p.values.size() != q.values.size()) return "sample " + std::to_string(i);
+    for (size_t k = 0; k < p.values.size(); ++k)
+      if (!same(p.values[k], q.values[k])) return "sample " + std::to_string(i) + " column " + a.columns[k].name;
   }
   return "";
 }

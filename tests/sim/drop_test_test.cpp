@@ -224,7 +224,9 @@ TEST_CASE("hard case: the strut reaches its bottoming stop", "[validation][hard]
   CHECK(res.metrics.stroke_max_m == Approx(0.16).margin(1e-6));
   // The bottoming stop pushes while it is engaged.
   double fBot = 0;
-  for (const auto& s : res.samples) fBot = std::max(fBot, s.stopLambda.at(1));
+  const int cBot = res.column("F_bottoming");
+  REQUIRE(cBot >= 0);
+  for (const auto& s : res.samples) fBot = std::max(fBot, s.values[cBot]);
   CHECK(fBot > 0);
   // And the reference model (plastic impact on the stop, stop force as a multiplier) agrees.
   ref::SeedGearParams p = seedParams(sc);
@@ -237,10 +239,12 @@ TEST_CASE("hard case: rebound, lift-off and the slam onto the extension stop", "
   for (const char* name : {"light", "limit", "reserve"}) {
     const auto res = run(sc, lgtest::findCase(sc, name), true);
     checkStable(std::string("rebound ") + name, res.metrics);
+    const int cDelta = res.column("delta"), cExt = res.column("F_extension"), cS = res.column("s");
+    REQUIRE((cDelta >= 0 && cExt >= 0 && cS >= 0));
     // The wheel leaves the ground after the compression ...
     double tOff = -1;
     for (const auto& s : res.samples)
-      if (s.t > res.metrics.t_peak_s && s.delta <= 0) {
+      if (s.t > res.metrics.t_peak_s && s.values[cDelta] <= 0) {
         tOff = s.t;
         break;
       }
@@ -251,15 +255,15 @@ TEST_CASE("hard case: rebound, lift-off and the slam onto the extension stop", "
     double tSlam = -1, fExt = 0;
     for (const auto& s : res.samples) {
       if (s.t <= tOff) continue;
-      if (tSlam < 0 && s.stopLambda.at(0) > 0) tSlam = s.t;
-      if (tSlam >= 0) fExt = std::max(fExt, s.stopLambda.at(0));
+      if (tSlam < 0 && s.values[cExt] > 0) tSlam = s.t;
+      if (tSlam >= 0) fExt = std::max(fExt, s.values[cExt]);
     }
     std::printf("rebound %-8s lift-off at %.4f s, extension stop engaged at %.4f s, force up to %.1f N\n", name, tOff,
                 tSlam, fExt);
     REQUIRE(tSlam > tOff);
     CHECK(fExt > 0);
     for (const auto& s : res.samples)
-      if (s.t > tSlam && s.stopLambda.at(0) > 0) CHECK(std::abs(s.s) < 1e-6);
+      if (s.t > tSlam && s.values[cExt] > 0) CHECK(std::abs(s.values[cS]) < 1e-6);
   }
 }
 

@@ -2,6 +2,7 @@
 // the file, the line and the key, and `simulate` on such a file exits with status 2 without writing.
 #include "scene_support.hpp"  // sim headers, then Catch (see there)
 
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <cstdlib>
@@ -117,6 +118,44 @@ TEST_CASE("bad input names file, line and key, and simulate exits with 2 and wri
       {"TOML syntax error", replaced(seed, "mass = 12.0", "mass = 12.0.0"), "mass = 12.0.0", "mass", "TOML"},
       {"TOML syntax error, unclosed array", replaced(seed, "point = [-0.20, 0.45, 0.0]\n", "point = [-0.20, 0.45, 0.0\n"),
        "[[joint]]\nname = \"b\"", "point", "TOML"},  // noticed on the next header, named by the open array
+      {"TOML syntax error, a key without '='", replaced(seed, "mass = 20.0", "mass 20.0"), "mass 20.0", "mass", "TOML"},
+      {"TOML syntax error, unterminated multi-line string",
+       replaced(seed, "name = \"seed_gear\"", "name = \"seed_gear\"\ndescription = \"\"\"a gear"),
+       "description = \"\"\"a gear", "description", "never closed"},
+      // tables of the wrong kind are errors, never ignored
+      {"solver as an array of tables", replaced(seed, "[solver]", "[[solver]]"), "[[solver]]", "solver",
+       "not an array of tables"},
+      {"solver as a string",
+       "solver = \"dopri5\"\n[[body]]\nname = \"w\"\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\nposition = [0.0, 0.3, 0.0]\n",
+       "solver = \"dopri5\"", "solver", "must be a table [solver]"},
+      {"scene as an array of tables", replaced(seed, "[scene]", "[[scene]]"), "[[scene]]", "scene", "not an array of tables"},
+      // counts are whole numbers in range, never truncated
+      {"fractional max_steps", replaced(seed, "atol = 1e-8", "atol = 1e-8\nmax_steps = 10.5"), "max_steps = 10.5",
+       "solver.max_steps", "must be a whole number"},
+      {"huge max_steps", replaced(seed, "atol = 1e-8", "atol = 1e-8\nmax_steps = 1e300"), "max_steps = 1e300",
+       "solver.max_steps", "must be in [1, 1000000000000]"},
+      {"fractional Gauss-Seidel sweeps", replaced(seed, "atol = 1e-8", "atol = 1e-8\ngauss_seidel_iterations = 0.5"),
+       "gauss_seidel_iterations = 0.5", "solver.gauss_seidel_iterations", "must be a whole number"},
+      // finite numbers only
+      {"NaN in a quaternion", replaced(seed, "x_axis = [1.0, 0.0, 0.0]", "quaternion = [nan, 0.0, 0.0, 0.0]"),
+       "quaternion = [nan", "body[0].quaternion", "must be finite"},
+      // a misspelt key is an unknown key, with the allowed ones
+      {"misspelt body1", replaced(seed, "body1 = \"lever\"\nbody2 = \"airframe\"", "bodyl = \"lever\"\nbody2 = \"airframe\""),
+       "bodyl = \"lever\"", "joint[0].bodyl", "unknown key (allowed here: axis, body1, body2, name, point, type)"},
+      // names become file names and CSV columns
+      {"case name with a slash", replaced(seed, "name = \"light\"", "name = \"a/b\""), "name = \"a/b\"", "case[0].name",
+       "must be 1 to 64 letters"},
+      {"case name leaving the output directory", replaced(seed, "name = \"light\"", "name = \"../escaped\""),
+       "name = \"../escaped\"", "case[0].name", "must be 1 to 64 letters"},
+      {"empty case name", replaced(seed, "name = \"light\"", "name = \"\""), "name = \"\"", "case[0].name",
+       "must be 1 to 64 letters"},
+      {"stop name with a comma", replaced(seed, "name = \"extension\"", "name = \"ext,ension\""), "name = \"ext,ension\"",
+       "stop[0].name", "must be 1 to 64 letters"},
+      // an over-constrained mechanism names the joint that repeats the others
+      {"redundant joint",
+       seed + "\n[[joint]]\nname = \"axle2\"\ntype = \"spherical\"\nbody1 = \"wheel\"\nbody2 = \"lever\"\n"
+              "point = [-0.40, 0.30, 0.0]\n",
+       "[[joint]]\nname = \"axle2\"", "joint.axle2", "over-constrains the mechanism: its row 0 repeats what joint 'g' already holds"},
   };
   lgtest::TempDir dir("bad");
   lgtest::writeFile(dir / "garbled.csv", "stroke,area\n0.0,8e-5\n0.05,seven\n0.1,6e-5\n0.16,4e-5\n");
@@ -159,4 +198,23 @@ TEST_CASE("simulate: a missing scene file or an unknown case is bad input too", 
   CHECK(WEXITSTATUS(st) == 2);
   CHECK(lgtest::readFile(dir / "err.txt").find("nonesuch") != std::string::npos);
   CHECK(!std::filesystem::exists(out));
+}
+
+TEST_CASE("simulate: a pipe or a directory given as the scene is refused at once, never read", "[scene][input]") {
+  lgtest::TempDir dir("bad3");
+  const std::string fifo = dir / "scene.fifo";
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  const std::string out = dir / "out";
+  for (const std::string& scene : {fifo, dir.path.string()}) {
+    INFO(scene);
+    // 'timeout' guards the test itself: a program that opened the pipe would block here for ever.
+    const std::string cmd = "timeout 20 '" + lgtest::binPath("simulate") + "' '" + scene + "' --out '" + out +
+                            "' --quiet 2>'" + (dir / "err.txt") + "'";
+    const int st = std::system(cmd.c_str());
+    REQUIRE(WIFEXITED(st));
+    CHECK(WEXITSTATUS(st) == 2);
+    CHECK(lgtest::readFile(dir / "err.txt") ==
+          "error: " + scene + ": cannot read the scene file: not a regular file (a directory, a pipe or a device)\n");
+    CHECK(!std::filesystem::exists(out));
+  }
 }

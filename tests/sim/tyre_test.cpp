@@ -55,11 +55,20 @@ TEST_CASE("tyre force follows method.md and never pulls", "[tyre]") {
     double g = 1;
     t.events(b.kins(), &g);
     CHECK(g == Approx(delta).margin(1e-15));
-    // Outputs: delta, P_t.
-    double out[2];
-    t.outputs(b.kins(), out);
-    CHECK(out[0] == t.deflection(b.kins()));
+    // Outputs: delta, P_t and their rates, with the wheel moving down at 1.3 m/s (and spinning): delta'
+    // = 1.3 m/s, P_t' = dP_t/ddelta delta' (against a central difference of the load law; 0 off the ground).
+    OneBody moving(0.30 - delta);
+    moving.k[0].v = lg::Vec3<double>(0.4, -1.3, 0.0);
+    moving.k[0].w = lg::Vec3<double>(0.0, 0.0, 9.0);
+    double out[4];
+    REQUIRE(t.outputNames().size() == 4);
+    t.outputs(moving.kins(), out);
+    CHECK(out[0] == t.deflection(moving.kins()));
     CHECK(out[1] == t.load(out[0]));
+    CHECK(out[2] == Approx(1.3).epsilon(1e-14));
+    const double rate = delta > 2 * h ? (t.load(delta + h) - t.load(delta - h)) / (2 * h) * 1.3 : 0.0;
+    if (delta <= 0) CHECK(out[3] == 0.0);
+    else if (delta > 2 * h) CHECK(out[3] == Approx(rate).epsilon(1e-7));
   }
 }
 

@@ -1,0 +1,111 @@
+// Command-line overrides and case matrices (overrides.hpp).
+#include "sim/io/overrides.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#include "sim/io/toml_reader.hpp"
+
+namespace lg {
+namespace {
+
+const char* kWhere = "command line";
+
+// A whole string as a finite number; false if it is not one.
+bool toNumber(const std::string& s, double& v) {
+  if (s.empty()) return false;
+  char* end = nullptr;
+  v = std::strtod(s.c_str(), &end);
+  return end == s.c_str() + s.size() && std::isfinite(v);
+}
+
+std::string trim(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t"), b = s.find_last_not_of(" \t");
+  return a == std::string::npos ? "" : s.substr(a, b - a + 1);
+}
+
+}  // namespace
+
+ParameterOverride parseOverride(const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos)
+    throw InputError(kWhere, 0, "--set", "value '" + text + "' must read PATH=VALUE, e.g. strut.f1=8e-5");
+  ParameterOverride o;
+  o.path = trim(text.substr(0, eq));
+  const std::string value = trim(text.substr(eq + 1));
+  if (!toNumber(value, o.value))
+    throw InputError(kWhere, 0, "--set " + o.path, "value '" + value + "' must be a finite number");
+  return o;
+}
+
+Scene applyOverrides(const Scene& scene, const std::vector<ParameterOverride>& sets) {
+  if (sets.empty()) return scene;
+  toml::table doc = scene.doc;
+  for (const auto& o : sets) {
+    try {
+      setParameter(doc, o.path, o.value, kWhere);
+    } catch (const InputError& e) {
+      throw InputError(kWhere, 0, "--set " + o.path,
+                       "'" + o.path + "' is not a numeric parameter of the scene " + scene.file + " (" +
+                           std::string(e.what()).substr(std::string(kWhere).size() + 2) + ")");
+    }
+  }
+  std::string dir = std::filesystem::path(scene.file).parent_path().string();
+  if (dir.empty()) dir = ".";
+  return buildScene(doc, scene.file, dir);
+}
+
+std::vector<double> parseValueList(const std::string& text, const std::string& flag, bool positive) {
+  std::vector<double> out;
+  auto check = [&](double v, const std::string& token) {
+    if (positive ? !(v > 0) : !(v >= 0))
+      throw InputError(kWhere, 0, flag, "value " + token + " must be " + (positive ? "> 0" : ">= 0"));
+    out.push_back(v);
+  };
+  if (text.find(':') != std::string::npos) {
+    double a, h, b;
+    const auto c1 = text.find(':'), c2 = text.find(':', c1 + 1);
+    if (c2 == std::string::npos || !toNumber(trim(text.substr(0, c1)), a) ||
+        !toNumber(trim(text.substr(c1 + 1, c2 - c1 - 1)), h) || !toNumber(trim(text.substr(c2 + 1)), b))
+      throw InputError(kWhere, 0, flag, "value '" + text + "' must read start:step:stop, e.g. 1.5:0.25:3.5");
+    if (!(h > 0) || !(b >= a))
+      throw InputError(kWhere, 0, flag, "range '" + text + "' needs step > 0 and stop >= start");
+    const double n = std::floor((b - a) / h + 1e-9);
+    if (n > 10000) throw InputError(kWhere, 0, flag, "range '" + text + "' has more than 10000 values");
+    for (long i = 0; i <= static_cast<long>(n); ++i) check(a + static_cast<double>(i) * h, text);
+    return out;
+  }
+  size_t start = 0;
+  while (start <= text.size()) {
+    const auto comma = text.find(',', start);
+    const std::string token = trim(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    double v;
+    if (!toNumber(token, v))
+      throw InputError(kWhere, 0, flag, "value '" + token + "' in '" + text + "' must be a number (list: a,b,c; range: start:step:stop)");
+    check(v, token);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+std::vector<DropCase> caseMatrix(const std::vector<double>& sinkSpeeds, const std::vector<double>& liftRatios,
+                                 double duration) {
+  std::vector<DropCase> out;
+  for (double V : sinkSpeeds)
+    for (double L : liftRatios) {
+      char name[64];
+      std::snprintf(name, sizeof name, "V%.6g_L%.6g", V, L);
+      DropCase c;
+      c.name = name;
+      c.sinkSpeed = V;
+      c.liftRatio = L;
+      c.duration = duration;
+      out.push_back(c);
+    }
+  return out;
+}
+
+}  // namespace lg

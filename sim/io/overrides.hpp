@@ -1,0 +1,35 @@
+// Parameter overrides and case matrices from the command line (simulate, optimize): "--set
+// PATH=VALUE" in the study variables' path syntax, and "--sink-speeds 1.5:0.25:3.5 --lift-ratios
+// 0.667,1" expanded to every combination. Each is validated like the file it stands for: a bad one is
+// an InputError naming "command line", the flag and the rule.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sim/io/scene.hpp"
+
+namespace lg {
+
+struct ParameterOverride {
+  std::string path;  // "<element>.<key>", e.g. "strut.f1"
+  double value = 0;  // in the parameter's SI unit
+};
+
+// "strut.f1=8e-5" -> {strut.f1, 8e-5}; throws InputError("command line", "--set", ...).
+ParameterOverride parseOverride(const std::string& text);
+// Applies overrides to a scene document (each path must name a numeric scalar of the scene), then
+// rebuilds the scene: its own rules apply to the new values.
+Scene applyOverrides(const Scene& scene, const std::vector<ParameterOverride>& sets);
+
+// A list of numbers "a,b,c" or a range "start:step:stop" (stop included when the steps land on it
+// within 1e-9 of a step); every value must satisfy 'positive' (> 0) or be >= 0. 'flag' names it in errors.
+std::vector<double> parseValueList(const std::string& text, const std::string& flag, bool positive);
+
+// The drop cases of every (sink speed, lift ratio) pair, named "V<speed>_L<ratio>" (e.g. V2.5_L0.667),
+// each running 'duration' seconds with the scene's masses.
+std::vector<DropCase> caseMatrix(const std::vector<double>& sinkSpeeds, const std::vector<double>& liftRatios,
+                                 double duration);
+
+}  // namespace lg
