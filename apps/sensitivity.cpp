@@ -1,9 +1,10 @@
 // sensitivity STUDY [--out DIR] [--threads N] [--method local|morris|sobol|all] [--samples N] [--seed S]
-//             [--no-plots] [--quiet]
+//             [--set PATH=VALUE]... [--plots] [--quiet]
 // Local, Morris and Sobol sensitivities of a study's metrics to its variables (optim/sensitivity.hpp),
 // written to DIR (optim/sensitivity_report.hpp). Under an MPI launcher (mpirun -n K sensitivity ...)
-// the runs are spread over the ranks and rank 0 writes exactly what one process writes. Exit status:
-// 0 done, 2 bad input (nothing written), 1 other errors.
+// the runs are spread over the ranks and rank 0 writes exactly what one process writes. Exit status
+// (apps/cli.hpp): 0 done, 1 an output could not be written, 2 bad input (nothing written), 130
+// interrupted by Ctrl-C (nothing written).
 #include <unistd.h>
 
 #include <chrono>
@@ -15,11 +16,12 @@
 
 #include <omp.h>
 
-#include <CLI/CLI.hpp>
-
+#include "apps/cli.hpp"
 #include "optim/sensitivity.hpp"
 #include "optim/sensitivity_report.hpp"
 #include "optim/study.hpp"
+#include "sim/io/files.hpp"
+#include "sim/io/overrides.hpp"
 #include "sim/metrics.hpp"
 #ifdef LG_HAVE_MPI
 #include "uq/mpi.hpp"
@@ -29,27 +31,28 @@ namespace {
 
 struct Cli {
   std::string study, out, method;
+  std::vector<std::string> sets;
   int threads = 0, samples = 0;
   long long seed = -1;
-  bool noPlots = false, quiet = false;
+  bool plots = false, quiet = false;
 };
 
-// Applies the command line to the study's [sensitivity]; returns the rule broken, or "".
-std::string applyCli(const Cli& c, lg::optim::SensitivitySettings& g) {
+// Applies the command line to the study's [sensitivity]; a bad value is an InputError naming the flag.
+void applyCli(const Cli& c, lg::optim::SensitivitySettings& g) {
   if (!c.method.empty()) {
     g.local = c.method == "local" || c.method == "all";
     g.morris = c.method == "morris" || c.method == "all";
     g.sobol = c.method == "sobol" || c.method == "all";
     if (!g.local && !g.morris && !g.sobol)
-      return "--method: value '" + c.method + "' must be local, morris, sobol or all";
+      throw lg::InputError("command line", 0, "--method", "value '" + c.method + "' must be local, morris, sobol or all");
   }
   if (c.samples != 0) {
     if (c.samples < 8 || c.samples > (1 << 20) || (c.samples & (c.samples - 1)) != 0)
-      return "--samples: value " + std::to_string(c.samples) + " must be a power of two in [8, 2^20]";
+      throw lg::InputError("command line", 0, "--samples",
+                           "value " + std::to_string(c.samples) + " must be a power of two in [8, 2^20]");
     g.samples = c.samples;
   }
   if (c.seed >= 0) g.seed = static_cast<unsigned long long>(c.seed);
-  return "";
 }
 
 // "peak_load@cert-reserve: strut.f1 (ST 0.61), ..." lines: the largest driver per method.
@@ -71,29 +74,30 @@ void printSummary(const lg::optim::Study& s, const lg::optim::SensitivityResult&
                 r.sobol ? best(r.sobol->outputs[j].ST, false).c_str() : "-");
 }
 
-// The command line: 0 to go on, otherwise the exit status (help: 0 after printing, bad usage: 2).
+// The command line: -1 to go on, otherwise the exit status (0 after --help or --version, 2 after a
+// usage error; only rank 0 speaks).
 int parseCommandLine(int argc, char** argv, bool root, Cli& c) {
-  CLI::App app{"Local, Morris and Sobol sensitivities of a gear study (see optim/sensitivity.hpp)"};
+  CLI::App app{"Local, Morris and Sobol sensitivities of a gear study (see README, \"sensitivity\")"};
+  lg::cli::addVersion(app, "sensitivity");
   app.add_option("study", c.study, "study file (TOML, .cfg or .toml): variables, ranges, cases, [sensitivity]")->required();
   app.add_option("--out", c.out, "output directory (default: <study stem>-sensitivity in the current directory)");
-  app.add_option("--threads", c.threads, "OpenMP threads per process (default: the cores this process may use)")
-      ->check(CLI::Range(1, 1024));
+  lg::cli::addThreads(app, c.threads, "the designs, per process (0: the cores this process may use)");
   app.add_option("--method", c.method, "local, morris, sobol or all (default: [sensitivity] methods, else all)");
   app.add_option("--samples", c.samples, "Sobol base sample N, a power of two (default: [sensitivity] samples)");
   app.add_option("--seed", c.seed, "seed of the Sobol shift, the Morris trajectories and the bootstraps")
       ->check(CLI::Range(0LL, 9223372036854775807LL));
-  app.add_flag("--no-plots", c.noPlots, "skip gnuplot (the data and scripts are still written)");
+  app.add_option("--set", c.sets, "override a parameter of the study's scene, PATH=VALUE in SI units (repeatable)");
+  app.add_flag("--plots", c.plots, "draw the report's pictures with gnuplot (the data and scripts are written regardless)");
   app.add_flag("--quiet", c.quiet, "no progress line or summary");
-  try {
+  if (root) return lg::cli::parse(app, argc, argv);
+  try {  // the other ranks parse silently: rank 0 says what is wrong
     app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    if (root) app.exit(e);
     return -1;
-  } catch (const CLI::ParseError& e) {
-    if (root) app.exit(e);
-    return 2;
+  } catch (const CLI::Success&) {
+    return lg::cli::kOk;
+  } catch (const CLI::ParseError&) {
+    return lg::cli::kUsage;
   }
-  return 0;
 }
 
 // Writes the outputs and prints the summary (rank 0); returns the exit status.
@@ -101,10 +105,10 @@ int finish(const Cli& c, const lg::optim::Study& study, const lg::optim::Sensiti
            double wall) {
   lg::optim::SensitivityFiles files;
   try {
-    files = lg::optim::writeSensitivity(study, r, c.out, !c.noPlots);
+    files = lg::optim::writeSensitivity(study, r, c.out, c.plots);
   } catch (const std::exception& e) {
-    std::cerr << "sensitivity: " << e.what() << "\n";
-    return 1;
+    std::cerr << "error: " << e.what() << "\n";
+    return lg::cli::kFailed;
   }
   const size_t shown = 10;
   for (size_t k = 0; k < files.warnings.size() && k < shown; ++k)
@@ -143,29 +147,36 @@ int main(int argc, char** argv) {
   };
 
   Cli c;
-  if (const int status = parseCommandLine(argc, argv, root, c)) return status < 0 ? 0 : status;
+  if (const int status = parseCommandLine(argc, argv, root, c); status >= 0) return status;
   // Every rank reads and checks the input: bad input stops them all alike, before anything is written.
   lg::optim::Study study;
   lg::optim::SensitivitySettings settings;
   try {
-    study = lg::optim::loadStudy(c.study);
+    std::vector<lg::ParameterOverride> overrides;
+    for (const auto& s : c.sets) overrides.push_back(lg::parseOverride(s));
+    study = lg::optim::loadStudy(c.study, overrides);
     settings = study.sensitivity;
-    if (const std::string rule = applyCli(c, settings); !rule.empty()) {
-      if (root) std::cerr << "sensitivity: " << rule << "\n";
-      return 2;
-    }
+    applyCli(c, settings);
     lg::optim::checkSensitivity(study, settings);
-  } catch (const std::exception& e) {
-    if (root) std::cerr << "sensitivity: " << e.what() << "\n";
-    return 2;
+  } catch (const lg::InputError& e) {
+    if (root) std::cerr << "error: " << e.what() << "\n";
+    return lg::cli::kUsage;
   }
-  if (c.out.empty()) c.out = std::filesystem::path(c.study).stem().string() + "-sensitivity";
+  if (c.out.empty()) c.out = lg::safeFileStem(std::filesystem::path(c.study).stem().string()) + "-sensitivity";
+  if (root) try {
+      lg::prepareOutputDir(c.out);  // before any work: a directory that takes no file fails now
+    } catch (const std::exception& e) {
+      std::cerr << "error: " << e.what() << "\n";
+      return fail(lg::cli::kFailed);
+    }
   const int threads = c.threads > 0 ? c.threads : std::max(1, omp_get_num_procs());
   const bool tty = root && !c.quiet && isatty(fileno(stderr));
+  lg::cli::installInterruptHandler();
 
   lg::optim::SensitivityOptions o;
   o.threads = threads;
   o.comm = comm.get();
+  o.stop = [] { return lg::cli::interrupted(); };
   const auto t0 = std::chrono::steady_clock::now();
   double lastPrint = -1;
   if (tty)
@@ -180,12 +191,16 @@ int main(int argc, char** argv) {
   try {
     r = lg::optim::runSensitivity(study, settings, o);
   } catch (const std::exception& e) {
-    std::cerr << "sensitivity: rank " << comm->rank() << ": " << e.what() << "\n";
-    return fail(1);
+    std::cerr << "error: rank " << comm->rank() << ": " << e.what() << "\n";
+    return fail(lg::cli::kFailed);
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (tty) std::fprintf(stderr, "\n");
-  if (!root) return 0;
+  if (lg::cli::interrupted()) {  // the runs skipped after Ctrl-C would look like failures: write nothing
+    if (root) std::cerr << "sensitivity: interrupted, nothing written\n";
+    return fail(lg::cli::kInterrupted);
+  }
+  if (!root) return lg::cli::kOk;
   const int status = finish(c, study, r, comm->size(), threads, wall);
-  return status == 0 ? 0 : fail(status);
+  return status == lg::cli::kOk ? status : fail(status);
 }

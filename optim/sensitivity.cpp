@@ -44,7 +44,9 @@ std::vector<uq::Outcome> runDesigns(const Study& s, const SensitivitySettings& g
   return uq::evaluateBatch(
       runs, outputs,
       [&](std::size_t k) {
-        return evaluateSensitivityDesign(s, g, std::vector<double>(points.begin() + k * d, points.begin() + (k + 1) * d));
+        if (o.stop && o.stop()) return uq::Outcome{std::vector<double>(outputs, kNaN), "interrupted"};
+        return evaluateSensitivityDesign(s, g, std::vector<double>(points.begin() + k * d, points.begin() + (k + 1) * d),
+                                         o.stop);
       },
       comm, bo);
 }
@@ -107,7 +109,8 @@ void checkSensitivity(const Study& s, const SensitivitySettings& g) {
   if (g.metrics.empty()) throw InputError(s.file, g.line, "sensitivity.metrics", "no metric of interest");
 }
 
-uq::Outcome evaluateSensitivityDesign(const Study& s, const SensitivitySettings& g, const std::vector<double>& x) {
+uq::Outcome evaluateSensitivityDesign(const Study& s, const SensitivitySettings& g, const std::vector<double>& x,
+                                      const std::function<bool()>& stop) {
   uq::Outcome out;
   const std::size_t nc = g.cases.size();
   out.y.assign(g.metrics.size() * nc, kNaN);
@@ -122,7 +125,9 @@ uq::Outcome evaluateSensitivityDesign(const Study& s, const SensitivitySettings&
     const std::vector<DropCase> all = designCases(s, scene, true);
     std::vector<DropCase> cases;
     for (int c : g.cases) cases.push_back(all[c]);
-    const std::vector<CaseResult> runs = runCases(scene, cases, 1);
+    CaseOptions copt;
+    copt.stop = stop;
+    const std::vector<CaseResult> runs = runCases(scene, cases, 1, copt);
     for (std::size_t c = 0; c < nc; ++c) {
       const CaseMetrics& m = runs[c].metrics;
       if (!m.ok) {

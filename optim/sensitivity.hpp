@@ -99,12 +99,15 @@ struct SensitivityResult {
 struct SensitivityOptions {
   int threads = 1;                             // OpenMP threads within a rank
   uq::Communicator* comm = nullptr;            // null: one process
+  std::function<bool()> stop;                  // polled before each design and by the simulator (Ctrl-C)
   // Progress of this rank: the method, runs done, this rank's runs of the method.
   std::function<void(const std::string& method, std::size_t done, std::size_t mine)> progress;
 };
 
-// One design on the cases of interest: the outputs in sensitivityOutputs() order. Never throws.
-uq::Outcome evaluateSensitivityDesign(const Study& s, const SensitivitySettings& g, const std::vector<double>& x);
+// One design on the cases of interest: the outputs in sensitivityOutputs() order. Never throws. 'stop'
+// (may be null) is polled by the simulator.
+uq::Outcome evaluateSensitivityDesign(const Study& s, const SensitivitySettings& g, const std::vector<double>& x,
+                                      const std::function<bool()>& stop = {});
 
 // Runs the methods of 'g'. Every rank returns the same result.
 SensitivityResult runSensitivity(const Study& s, const SensitivitySettings& g, const SensitivityOptions& o);

@@ -57,7 +57,7 @@ TEST_CASE("sensitivity MPI: 2 and 3 ranks write the same bytes as one process", 
                            << "[[variable]]\npath = \"strut.Omega0\"\nlower = 1.2e-3\nupper = 1.6e-3\ninitial = 1.3e-3\n"
                            << "[[case]]\nname = \"cert-limit-landing\"\n[[case]]\nname = \"cert-reserve\"\n"
                            << "[sensitivity]\nmetrics = [\"peak_load\", \"stroke\"]\ntrajectories = 4\nsamples = 16\n";
-  const std::string exe = std::string(LG_BIN_DIR) + "/sensitivity '" + studyPath.string() + "' --no-plots --quiet 2>>'" + (dir / "stderr.log").string() + "'";
+  const std::string exe = std::string(LG_BIN_DIR) + "/sensitivity '" + studyPath.string() + "' --quiet 2>>'" + (dir / "stderr.log").string() + "'";
   const fs::path one = dir / "one";
   REQUIRE(run(exe + " --threads 1 --out '" + one.string() + "'") == 0);
   const std::set<std::string> expected = files(one);

@@ -57,6 +57,12 @@ std::string study(const std::string& sens, const std::string& solver = "") {
          + sens + solver;                    // 13...
 }
 
+SensitivityOptions withThreads(int threads) {
+  SensitivityOptions o;
+  o.threads = threads;
+  return o;
+}
+
 void expectError(const std::string& sens, int line, const std::string& key, const std::string& words) {
   const std::string path = write("bad.cfg", study(sens));
   try {
@@ -150,7 +156,7 @@ TEST_CASE("sensitivity: the program exits with status 2 on bad input and writes 
   const std::string exe = std::string(LG_BIN_DIR) + "/sensitivity ";
   const std::string sink = " --quiet > /dev/null 2>&1";
   for (const std::string& args : std::vector<std::string>{"'" + bad + "'", "'" + good + "' --samples 100", "'" + good + "' --method fast",
-                                  "'" + good + "' --seed -3", "'" + good + "' --threads 0", "'/no/such/study.cfg'"}) {
+                                  "'" + good + "' --seed -3", "'" + good + "' --threads -1", "'" + good + "' --set strut.nope=1", "'/no/such/study.cfg'"}) {
     INFO(args);
     const int status = std::system((exe + args + " --out '" + out.string() + "'" + sink).c_str());
     REQUIRE(WIFEXITED(status));
@@ -163,7 +169,7 @@ TEST_CASE("sensitivity: the program exits with status 2 on bad input and writes 
 // the parameter scaled by 1 +- h in the document, the scene rebuilt, the matrix case run.
 TEST_CASE("sensitivity: local elasticities on the seed gear against an independent central difference", "[optim][sensitivity][seed]") {
   const Study s = loadStudy(write("local.cfg", study("[sensitivity]\nmethods = [\"local\"]\nmetrics = [\"peak_load\", \"stroke\"]\n")));
-  const SensitivityResult r = runSensitivity(s, s.sensitivity, SensitivityOptions{2, nullptr, {}});
+  const SensitivityResult r = runSensitivity(s, s.sensitivity, withThreads(2));
   REQUIRE(r.local);
   CHECK(r.localFailures.runs == 0);
   REQUIRE(r.outputs.size() == 2);
@@ -196,7 +202,7 @@ TEST_CASE("sensitivity: local elasticities on the seed gear against an independe
   // and the step is small enough: h/2 changes them by under 1 %
   SensitivitySettings half = s.sensitivity;
   half.step = h / 2;
-  const SensitivityResult r2 = runSensitivity(s, half, SensitivityOptions{2, nullptr, {}});
+  const SensitivityResult r2 = runSensitivity(s, half, withThreads(2));
   for (std::size_t k = 0; k < 2; ++k)
     for (std::size_t i = 0; i < 2; ++i) CHECK(r2.local->outputs[k].E[i] == Approx(r.local->outputs[k].E[i]).epsilon(0.01));
   CHECK(derivativeSource(s.sensitivity) == "central differences, relative step h = 0.01");
@@ -213,8 +219,8 @@ TEST_CASE("sensitivity: failed runs are counted, located and dropped by whole So
                            "[[case]]\nname = \"cert-limit-landing\"\n"
                            "[sensitivity]\nmetrics = [\"peak_load\", \"stroke\"]\ntrajectories = 4\nsamples = 16\n";
   const Study s = loadStudy(write("fail.cfg", text));
-  const SensitivityResult r1 = runSensitivity(s, s.sensitivity, SensitivityOptions{1, nullptr, {}});
-  const SensitivityResult r2 = runSensitivity(s, s.sensitivity, SensitivityOptions{2, nullptr, {}});
+  const SensitivityResult r1 = runSensitivity(s, s.sensitivity, withThreads(1));
+  const SensitivityResult r2 = runSensitivity(s, s.sensitivity, withThreads(2));
   REQUIRE(r1.sobol);
   CHECK(r1.sobol->runs.size() == 16 * 5);
   CHECK(r1.designs == 7 + 4 * 4 + 16 * 5);
