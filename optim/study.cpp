@@ -360,6 +360,102 @@ void parseAlgorithm(const toml::table& doc, const std::string& file, Study& s) {
     r.fail("maxeval", "give at least one stopping rule (maxeval, maxtime, xtol_rel or ftol_rel)");
 }
 
+// A list of strings (a single string is a list of one); errors name the key.
+std::vector<std::string> stringList(const TomlReader& r, const std::string& key) {
+  const toml::node* n = r.get(key);
+  std::vector<std::string> out;
+  if (n->is_string()) out.push_back(std::string(*n->value<std::string>()));
+  else if (const toml::array* a = n->as_array()) {
+    for (const auto& e : *a) {
+      if (!e.is_string()) r.fail(key, "must be a list of strings");
+      out.push_back(std::string(*e.value<std::string>()));
+    }
+  } else {
+    r.fail(key, "must be a list of strings");
+  }
+  if (out.empty()) r.fail(key, "names nothing: leave the key out for the default");
+  for (size_t i = 0; i < out.size(); ++i)
+    for (size_t k = 0; k < i; ++k)
+      if (out[i] == out[k]) r.fail(key, "'" + out[i] + "' appears twice");
+  return out;
+}
+
+long long integerIn(const TomlReader& r, const std::string& key, long long def, long long lo, long long hi,
+                    const std::string& what) {
+  const long long v = r.integer(key, def);
+  if (v < lo || v > hi)
+    r.fail(key, "value " + std::to_string(v) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]" +
+                    (what.empty() ? "" : " (" + what + ")"));
+  return v;
+}
+
+// [sensitivity]: methods, metrics and cases of interest, sample sizes, seed (optim/sensitivity.hpp).
+void parseSensitivity(const toml::table& doc, const std::string& file, Study& s) {
+  SensitivitySettings& g = s.sensitivity;
+  const toml::table* t = tableOf(doc, "sensitivity", file);
+  for (const auto& m : metricCatalogue())
+    if (metricNeeds(s.scene, m.name).empty()) g.metrics.push_back(m.name);
+  for (int k = 0; k < s.steeringCases(); ++k) g.cases.push_back(k);
+  if (!t) return;
+  TomlReader r(*t, file, "sensitivity");
+  r.allowOnly({"methods", "metrics", "cases", "seed", "step", "levels", "trajectories", "samples", "resamples",
+               "confidence"});
+  g.line = r.line();
+  if (r.has("methods")) {
+    g.local = g.morris = g.sobol = false;
+    for (const std::string& m : stringList(r, "methods")) {
+      if (m == "local") g.local = true;
+      else if (m == "morris") g.morris = true;
+      else if (m == "sobol") g.sobol = true;
+      else r.fail("methods", "value '" + m + "' must be \"local\", \"morris\" or \"sobol\"");
+    }
+  }
+  if (r.has("metrics")) {
+    g.metrics = stringList(r, "metrics");
+    for (const std::string& m : g.metrics) {
+      if (!findMetric(m)) r.fail("metrics", "value '" + m + "' must be a case metric (" + metricNames() + ")");
+      if (const std::string need = metricNeeds(s.scene, m); !need.empty())
+        r.fail("metrics", "'" + m + "' needs " + need + " in the scene");
+    }
+  }
+  if (r.has("cases")) {
+    const toml::node* n = r.get("cases");
+    if (n->is_string() && (*n->value<std::string>() == "steering" || *n->value<std::string>() == "all")) {
+      g.cases.clear();
+      const int count = *n->value<std::string>() == "all" ? static_cast<int>(s.cases.size()) : s.steeringCases();
+      for (int k = 0; k < count; ++k) g.cases.push_back(k);
+    } else {
+      g.cases.clear();
+      for (const std::string& name : stringList(r, "cases")) {
+        int found = -1;
+        for (size_t k = 0; k < s.cases.size(); ++k)
+          if (s.cases[k].dropCase.name == name) found = static_cast<int>(k);
+        if (found < 0) {
+          std::string list;
+          for (const auto& c : s.cases) list += (list.empty() ? "" : ", ") + c.dropCase.name;
+          r.fail("cases", "'" + name + "' is not a case of the study, its scene or its matrix (there are: " + list +
+                              "); or give \"steering\" (the default) or \"all\"");
+        }
+        g.cases.push_back(found);
+      }
+    }
+  }
+  g.seed = static_cast<unsigned long long>(integerIn(r, "seed", 1, 0, 9223372036854775807LL, ""));
+  g.step = r.positive("step", g.step);
+  if (g.step > 0.5) r.fail("step", "value " + fmt(g.step) + " must be <= 0.5 (a relative step of the central differences)");
+  g.levels = static_cast<int>(integerIn(r, "levels", g.levels, 2, 100, "Morris grid levels"));
+  if (g.levels % 2 != 0)
+    r.fail("levels", "value " + std::to_string(g.levels) + " must be even (each level then has one move of p/(2(p-1)))");
+  g.trajectories = static_cast<int>(integerIn(r, "trajectories", g.trajectories, 2, 100000, "Morris trajectories r"));
+  g.samples = static_cast<int>(integerIn(r, "samples", g.samples, 8, 1 << 20, "Sobol base sample N"));
+  if ((g.samples & (g.samples - 1)) != 0)
+    r.fail("samples", "value " + std::to_string(g.samples) + " must be a power of two (the Sobol points are then a net)");
+  g.resamples = static_cast<int>(integerIn(r, "resamples", g.resamples, 10, 100000, "bootstrap replicates"));
+  g.confidence = r.positive("confidence", g.confidence);
+  if (!(g.confidence >= 0.5 && g.confidence < 1))
+    r.fail("confidence", "value " + fmt(g.confidence) + " must be in [0.5, 1)");
+}
+
 }  // namespace
 
 // ---- parsing ---------------------------------------------------------------------------------------
@@ -373,7 +469,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
     top.fail("constraints", "the [constraints] table was replaced by a list of [[constraint]] tables, one bound each, "
                             "e.g. [[constraint]] metric = \"stroke_margin\" min = 0.01 (README, \"Study files\")");
   top.allowOnly({"name", "description", "scene", "solver", "variable", "case", "objective", "constraint", "certification",
-                 "algorithm"});
+                 "algorithm", "sensitivity"});
   s.name = top.name("name", safeFileStem(std::filesystem::path(file).stem().string()));
   (void)top.string("description", "");
 
@@ -458,6 +554,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
   parseObjective(doc, file, s);
   parseConstraints(doc, file, s);
   parseAlgorithm(doc, file, s);
+  parseSensitivity(doc, file, s);
   return s;
 }
 

@@ -13,6 +13,9 @@
 //   [certification] role = "constraint" | "check", and any key of the scene's [certification] to override
 //   [algorithm]   name = "LN_COBYLA", local = "LN_BOBYQA", maxeval = 200, maxtime = 0, xtol_rel = 1e-4,
 //                 ftol_rel = 0, seed = 1, penalty = 100, initial_step = 0
+//   [sensitivity] methods = ["local", "morris", "sobol"], metrics = ["peak_load", ...], cases = [...],
+//                 seed = 1, step = 0.01, levels = 4, trajectories = 20, samples = 256, resamples = 100,
+//                 confidence = 0.95       (read by `sensitivity` only; optim/sensitivity.hpp)
 //
 // Roles. An objective case enters the objective (and the constraints that name it); a constraint case
 // enters only the constraints; a check case is simulated and reported for the baseline and the best
@@ -117,6 +120,21 @@ struct AlgorithmSettings {
   double initialStep = 0;          // [-] initial step in scaled units (0: NLopt's default)
 };
 
+// [sensitivity]: what `sensitivity` computes on the study's variables and ranges (optim/sensitivity.hpp).
+struct SensitivitySettings {
+  bool local = true, morris = true, sobol = true;  // methods
+  std::vector<std::string> metrics;  // names of lg::metricCatalogue() (default: every one the scene measures)
+  std::vector<int> cases;            // indices into Study::cases (default: the steering cases)
+  unsigned long long seed = 1;       // Sobol shift, Morris trajectories, bootstrap
+  double step = 0.01;                // [-] local: relative step h of the central differences
+  int levels = 4;                    // [-] Morris: grid levels p (even)
+  int trajectories = 20;             // [-] Morris: r
+  int samples = 256;                 // [-] Sobol: base sample N (a power of two)
+  int resamples = 100;               // [-] bootstrap replicates
+  double confidence = 0.95;          // [-] bootstrap interval
+  int line = 0;                      // the [sensitivity] table (0: absent)
+};
+
 struct Study {
   std::string file;       // study file as given (messages)
   std::string name;       // "name" key, default: file stem
@@ -133,6 +151,7 @@ struct Study {
   CaseRole certificationRole = CaseRole::Check;         // of the matrix cases the study does not name
   bool staticStrokeNeeded = false;
   AlgorithmSettings algorithm;
+  SensitivitySettings sensitivity;
 
   int steeringCases() const;  // objective and constraint cases: cases[0 .. steeringCases())
 };

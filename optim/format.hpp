@@ -1,0 +1,42 @@
+// Number and field formats of the study outputs (CSV, gnuplot data, markdown): exact round trip for
+// data, 6 significant digits for people.
+#pragma once
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace lg::optim {
+
+// A CSV number with 17 significant digits (exact round trip); "nan" / "inf" where not finite.
+inline std::string exactNumber(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+
+// For people: 'digits' significant digits, "-" where not finite.
+inline std::string shortNumber(double v, int digits = 6) {
+  if (!std::isfinite(v)) return "-";
+  char b[40];
+  std::snprintf(b, sizeof b, "%.*g", digits, v);
+  return b;
+}
+
+// A gnuplot data number: "?" (gnuplot's missing value) where not finite.
+inline std::string plotNumber(double v) { return std::isfinite(v) ? exactNumber(v) : std::string("?"); }
+
+// A CSV field in double quotes (quotes doubled, line breaks as spaces).
+inline std::string csvField(const std::string& s) {
+  std::string q = "\"";
+  for (char ch : s) {
+    if (ch == '"') q += "\"\"";
+    else if (ch == '\n' || ch == '\r') q += ' ';
+    else q += ch;
+  }
+  return q + "\"";
+}
+
+}  // namespace lg::optim
