@@ -52,7 +52,7 @@ template <class S> struct CaseFigures {
   // For the kink report (values only).
   std::vector<std::pair<double, double>> loadHumps;     // (t, P_y) of each interior local maximum of P_y
   std::vector<std::pair<double, double>> stickIntervals;  // [t0, t1] where a strut stuck after moving
-  double tStrokeMax = 0, tHMax = 0;                     // [s] when s_max and h_max were reached
+  double tStrokeMax = 0, tHMax = 0, tStrutForceMax = 0;  // [s] when s_max, h_max and P_a,max were reached
 };
 
 template <class S> class DropObserver {
@@ -135,7 +135,7 @@ template <class S> class DropObserver {
     if (refine(prev_.PyDot, end_.PyDot, t0, t1, d, [](const Channels& c) { return c.Py; }, F_.peak_load, &F_.t_peak,
                end_.Py, t1, &tPy) &&
         tPy >= 0)
-      correctPeakTime(tPy, d);
+      correctPeakTime(tPy, t0, t1, d);
     if (value(prev_.PyDot) > 0 && value(end_.PyDot) < 0) F_.loadHumps.push_back({lastRefinedTime_, lastRefinedValue_});
     for (size_t k = 0; k < F_.tyres.size(); ++k) {
       // P_t grows with delta: both peak where delta' goes from + to -.
@@ -154,10 +154,10 @@ template <class S> class DropObserver {
         workPaAtMax_[k] = workPa_[k] - (tS >= 0 ? partialStrut(k, S(tS), t1, d) : S(0));
         F_.tStrokeMax = std::max(F_.tStrokeMax, tS < 0 ? value(t1) : tS);
       }
-      // Peak P_a (no rate channel): where this step may hold a new maximum, search it on the dense output.
-      if (value(maxByValue(mid_.Pa[k], end_.Pa[k])) > value(St.force_max))
-        refine(S(1.0), S(-1.0), t0, t1, d, [k](const Channels& c) { return c.Pa[k]; }, St.force_max, nullptr,
-               maxByValue(mid_.Pa[k], end_.Pa[k]), t1);
+      // Peak P_a (no rate channel): searched on the dense output where the step may hold it.
+      if (refineWithoutRate(prev_.Pa[k], mid_.Pa[k], end_.Pa[k], t0, t1, d, [k](const Channels& c) { return c.Pa[k]; },
+                            St.force_max))
+        F_.tStrutForceMax = value(t1);
       watchStick(k, value(t1), value(end_.sdot[k]));
     }
     double tH = -1;
@@ -171,11 +171,10 @@ template <class S> class DropObserver {
     // Rebound: the largest upward airframe velocity -h' after the compression; refined on the dense
     // output where the step's midpoint is above both ends.
     if (value(t1) > tHmax_) {
-      S v = maxByValue(S(0.0), S(-end_.hdot));
-      if (value(-mid_.hdot) > value(v) && value(-mid_.hdot) > value(-prev_.hdot))
-        refine(S(1.0), S(-1.0), maxByValue(t0, S(tHmax_)), t1, d, [](const Channels& c) { return S(-c.hdot); }, v, nullptr,
-               S(v), t1);
-      reboundV_ = maxByValue(reboundV_, v);
+      const S ta = maxByValue(t0, S(tHmax_));
+      const bool whole = value(ta) == value(t0);
+      refineWithoutRate(whole ? S(-prev_.hdot) : S(-end_.hdot), S(-mid_.hdot), S(-end_.hdot), ta, t1, d,
+                        [](const Channels& c) { return S(-c.hdot); }, reboundV_, !whole);
     }
     F_.constraint_violation_max = std::max(F_.constraint_violation_max, viol);
     checkBottom(s);
@@ -188,6 +187,10 @@ template <class S> class DropObserver {
   }
 
   bool stopRequested() const { return opt_.stop && (steps_ % 64 == 0) && opt_.stop(); }
+
+  // [m/s] the largest approach speed s' of a strut onto its bottoming stop when the stop first engaged
+  // (-1 if it never did): a speed near 0 is bottoming's onset.
+  double bottomingSpeed() const { return bottomSpeed_; }
 
   // The figures of the run that ended in state s.
   const CaseFigures<S>& finish(const State<S>& s, Workspace<S>& w) {
@@ -292,21 +295,53 @@ template <class S> class DropObserver {
     at(t, ytmp_, c);
   }
 
-  // The time of the peak load moves with the design: dt*/dp = -(dP'/dp) / P'' at t* (Jet only).
-  void correctPeakTime(double t, const DenseOutput<S>& d) {
+  // The time of the peak load moves with the design: dt*/dp = -(dP'/dp) / P'' at t* (Jet only). P' and
+  // P'' are differences in time of P_y on the dense output itself (the function whose maximum t* is),
+  // with a step of 1e-3 of the integration step.
+  void correctPeakTime(double t, const S& t0, const S& t1, const DenseOutput<S>& d) {
     if constexpr (!kDouble) {
-      channelsAt(S(t), d, scratch_);
-      const S rate = scratch_.PyDot;
-      const double dt = 1e-6 * std::max(1e-3, d.h);
+      const double dt = 1e-3 * (value(t1) - value(t0));
       channelsAt(S(t + dt), d, scratch_);
-      const double r1 = value(scratch_.PyDot);
+      const S up = scratch_.Py;
       channelsAt(S(t - dt), d, scratch_);
-      const double curvature = (r1 - value(scratch_.PyDot)) / (2 * dt);  // P'' [N/s^2]
+      const S down = scratch_.Py;
+      channelsAt(S(t), d, scratch_);
+      const S rate = (up - down) / S(2 * dt);                                          // P' [N/s]
+      const double curvature = (value(up) - 2 * value(scratch_.Py) + value(down)) / (dt * dt);  // P'' [N/s^2]
       if (curvature < 0) F_.t_peak = S(t) - (rate - S(value(rate))) / S(curvature);
     } else {
       (void)t;
+      (void)t0;
+      (void)t1;
       (void)d;
     }
+  }
+
+  // A running maximum of a channel without a rate: from its values at the step's start, middle and
+  // end, the step is searched (golden section on values) where its largest sample is inside or at the
+  // start (a maximum just after the start, or the one carried over from the previous step, lies in
+  // [t0, t_mid]); a largest value at the end is taken there, and the next step looks further.
+  // 'endOnly' (a step entered part-way): only the middle and end samples count.
+  // Returns true if the maximum moved.
+  template <class F>
+  bool refineWithoutRate(const S& v0, const S& vm, const S& v1, const S& t0, const S& t1, const DenseOutput<S>& d, F f,
+                         S& best, bool endOnly = false) {
+    const double a = value(v0), m = value(vm), b = value(v1);
+    const bool atStart = !endOnly && a >= m && a >= b, atMiddle = m > b && (endOnly || m > a);
+    if (atStart || atMiddle) {
+      const S tb = atStart ? S(0.5) * (t0 + t1) : t1;
+      return refine(S(1.0), S(-1.0), t0, tb, d, f, best, nullptr, atStart ? v0 : vm, atStart ? t0 : S(0.5) * (t0 + t1));
+    }
+    if (b > value(best)) {
+      // The largest sample at the end: the maximum is inside [t_mid, t1] if the channel already falls at
+      // t1 (a backward difference on the dense output), else at t1 or beyond.
+      const double dt = 1e-3 * (value(t1) - value(t0));
+      channelsAt(S(value(t1) - dt), d, scratch_);
+      if (value(f(scratch_)) > b) return refine(S(1.0), S(-1.0), S(0.5) * (t0 + t1), t1, d, f, best, nullptr, v1, t1);
+      best = v1;
+      return true;
+    }
+    return false;
   }
 
   // Friction: a strut sticks while |s'| stays within 10 eps after it has moved; intervals longer than a
@@ -375,7 +410,10 @@ template <class S> class DropObserver {
   }
   void checkBottom(const State<S>& s) {
     for (int r : bottomRows_)
-      if (s.active[r]) F_.bottomed = true;
+      if (s.active[r] && !F_.bottomed) {
+        F_.bottomed = true;
+        for (size_t k = 0; k < end_.sdot.size(); ++k) bottomSpeed_ = std::max(bottomSpeed_, value(end_.sdot[k]));
+      }
   }
   double externalPotential(const Workspace<S>& w) const {
     const Kins<S> K = w.kins();
@@ -480,6 +518,7 @@ template <class S> class DropObserver {
   double tHmax_ = 0;
   double lastRefinedTime_ = 0, lastRefinedValue_ = 0;
   double epsFriction_ = 0;
+  double bottomSpeed_ = -1;
   std::vector<double> stickStart_;
   std::vector<bool> moved_;
   long steps_ = 0;
