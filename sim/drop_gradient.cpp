@@ -121,7 +121,8 @@ bool runPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>
       std::string why;
       auto add = [&](const std::string& s) { why += (why.empty() ? "" : "; ") + s; };
       const bool peakBased = md.metric == "peak_load" || md.metric == "t_peak" || md.metric == "load_factor" ||
-                             md.metric == "inertia_load_factor" || md.metric == "efficiency";
+                             md.metric == "inertia_load_factor" || md.metric == "efficiency" ||
+                             md.metric == "tyre_deflection" || md.metric == "tyre_margin";
       if (peakBased && !kinks.humps.empty()) add(kinks.humps);
       if (!kinks.bottoming.empty()) add(kinks.bottoming);
       if (md.metric == "rebound_velocity" && !kinks.plateau.empty()) add(kinks.plateau);

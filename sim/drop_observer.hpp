@@ -89,6 +89,7 @@ template <class S> class DropObserver {
     F_.struts.resize(ns);
     F_.tyres.resize(nt);
     stickStart_.assign(ns, -1.0);
+    strutBottomed_.assign(ns, false);
     moved_.assign(ns, false);
     ytmp_ = VecX<S>::Zero(m.ny());
     ydotTmp_ = VecX<S>::Zero(m.ny());
@@ -218,6 +219,8 @@ template <class S> class DropObserver {
     for (size_t k = 0; k < F_.struts.size(); ++k) {
       auto& St = F_.struts[k];
       St.stroke_limit = strokeLimit(k);
+      if constexpr (!kDouble)  // the stop holds s_max at S_max: its derivative is S_max's, not the drift's
+        if (strutBottomed_[k]) St.stroke_max = S(value(St.stroke_max)) + (St.stroke_limit - S(value(St.stroke_limit)));
       St.work = workPaAtMax_[k];
       St.efficiency = (value(St.force_max) > 0 && value(St.stroke_max) > 0) ? St.work / (St.force_max * St.stroke_max) : S(0.0);
       St.stroke_margin = St.stroke_limit - St.stroke_max;  // NaN without a bottoming stop
@@ -414,6 +417,10 @@ template <class S> class DropObserver {
         F_.bottomed = true;
         for (size_t k = 0; k < end_.sdot.size(); ++k) bottomSpeed_ = std::max(bottomSpeed_, value(end_.sdot[k]));
       }
+    for (size_t k = 0; k < strutBottomed_.size(); ++k) {
+      const int stop = k < sc_.roles.bottomingStops.size() ? sc_.roles.bottomingStops[k] : -1;
+      if (stop >= 0 && s.active[m_.rowOffset[stop]]) strutBottomed_[k] = true;
+    }
   }
   double externalPotential(const Workspace<S>& w) const {
     const Kins<S> K = w.kins();
@@ -520,7 +527,7 @@ template <class S> class DropObserver {
   double epsFriction_ = 0;
   double bottomSpeed_ = -1;
   std::vector<double> stickStart_;
-  std::vector<bool> moved_;
+  std::vector<bool> moved_, strutBottomed_;
   long steps_ = 0;
 };
 
