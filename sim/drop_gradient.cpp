@@ -105,6 +105,13 @@ bool runPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>
   DropObserver<J> obs(scene, m, c, V, L, opt, nullptr);
   const RunStatus st = simulate(m, s, w, c.duration, obs);
   const CaseFigures<J>& F = obs.finish(s, w);
+  if (first == 0) {
+    g.values = caseMetrics(valuesOf(F), scene, c);
+    g.values.ok = st.ok;
+    g.values.message = st.message;
+    g.values.steps = st.steps;
+    g.values.rhs_evaluations = w.rhsEvaluations;
+  }
   if (!st.ok) {
     g.ok = false;
     g.message = st.message;
@@ -191,12 +198,17 @@ CaseGradient caseGradient(const Scene& scene, const DropCase& c, const std::vect
   }
   Kinks kinks;
   const size_t n = std::max<size_t>(params.size(), 1);
-  for (size_t first = 0; first < n; first += static_cast<size_t>(width)) {
+  for (size_t first = 0; first < n;) {
+    // The narrowest of the widths 1, 2, 4 (at most 'width') that holds the parameters left: 5 parameters
+    // run as 4 + 1, not 4 + 4.
+    const size_t left = n - first;
+    const int w = std::min(width, left >= 4 ? 4 : left >= 2 ? (left == 2 ? 2 : 4) : 1);
     bool ok = false;
-    if (width == 1) ok = runPass<1>(scene, c, params, first, g, kinks);
-    else if (width == 2) ok = runPass<2>(scene, c, params, first, g, kinks);
+    if (w == 1) ok = runPass<1>(scene, c, params, first, g, kinks);
+    else if (w == 2) ok = runPass<2>(scene, c, params, first, g, kinks);
     else ok = runPass<kJetWidth>(scene, c, params, first, g, kinks);
     if (!ok) break;
+    first += static_cast<size_t>(w);
   }
   return g;
 }

@@ -40,6 +40,7 @@ struct CaseGradient {
   std::string caseName;
   bool ok = true;
   std::string message;                    // why the run failed
+  CaseMetrics values;                     // the run's metrics (the Jet run's values: the double run's to round-off)
   std::vector<std::string> parameters;    // paths, in the order of 'd'
   std::vector<MetricDerivative> metrics;  // gradientMetrics() order
   const MetricDerivative* find(const std::string& metric) const;

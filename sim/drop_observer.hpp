@@ -55,6 +55,34 @@ template <class S> struct CaseFigures {
   double tStrokeMax = 0, tHMax = 0, tStrutForceMax = 0;  // [s] when s_max, h_max and P_a,max were reached
 };
 
+// The metrics (values) of a run's figures, for case c of the scene (defined in drop_test.cpp).
+CaseMetrics caseMetrics(const CaseFigures<double>& F, const Scene& scene, const DropCase& c);
+
+// The value parts of a run's figures.
+template <class S> CaseFigures<double> valuesOf(const CaseFigures<S>& F) {
+  CaseFigures<double> v;
+  for (auto [dst, src] : {std::pair<double*, const S*>{&v.peak_load, &F.peak_load}, {&v.t_peak, &F.t_peak},
+                          {&v.load_factor, &F.load_factor}, {&v.inertia_load_factor, &F.inertia_load_factor},
+                          {&v.stroke_max, &F.stroke_max}, {&v.stroke_margin, &F.stroke_margin}, {&v.h_max, &F.h_max},
+                          {&v.tyre_deflection_max, &F.tyre_deflection_max}, {&v.tyre_margin, &F.tyre_margin},
+                          {&v.efficiency, &F.efficiency}, {&v.strut_efficiency, &F.strut_efficiency},
+                          {&v.strut_force_max, &F.strut_force_max}, {&v.energy_absorbed, &F.energy_absorbed},
+                          {&v.energy_to_absorb, &F.energy_to_absorb}, {&v.rebound_velocity, &F.rebound_velocity},
+                          {&v.mass, &F.mass}})
+    *dst = value(*src);
+  for (const auto& st : F.struts)
+    v.struts.push_back({value(st.stroke_max), value(st.stroke_limit), value(st.stroke_margin), value(st.force_max),
+                        value(st.efficiency), value(st.work)});
+  for (const auto& t : F.tyres)
+    v.tyres.push_back({value(t.deflection_max), value(t.deflection_limit), value(t.margin), value(t.load_max)});
+  v.energy_dissipated = F.energy_dissipated;
+  v.energy_balance_error = F.energy_balance_error;
+  v.constraint_violation_max = F.constraint_violation_max;
+  v.compression_ended = F.compression_ended;
+  v.bottomed = F.bottomed;
+  return v;
+}
+
 template <class S> class DropObserver {
  public:
   // The channels the observer reads at one time.
