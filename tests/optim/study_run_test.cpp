@@ -248,3 +248,23 @@ TEST_CASE("study run: SLSQP with exact gradients reaches the COBYLA optimum of t
   CHECK(r.opt.best.objective <= 1.001 * cobyla);
   CHECK(r.opt.simulations < 40);
 }
+
+TEST_CASE("study run: a design's exact gradient is the same for any thread count", "[optim][seed][gradient]") {
+  const Study s = shippedStudy(0);
+  std::vector<double> x;
+  for (const auto& v : s.variables) x.push_back(0.5 * (v.lower + v.upper));
+  EvaluatorOptions o1, o2;
+  o1.threads = 1;
+  o2.threads = 2;
+  const Evaluation a = evaluateDesignGradient(s, x, o1), b = evaluateDesignGradient(s, x, o2);
+  REQUIRE(a.ok);
+  REQUIRE(a.hasGradient);
+  CHECK(sameBits(a.objective, b.objective));
+  REQUIRE(a.constraintGradients.size() == b.constraintGradients.size());
+  for (size_t i = 0; i < x.size(); ++i) CHECK(sameBits(a.objectiveGradient[i], b.objectiveGradient[i]));
+  for (size_t j = 0; j < a.constraintGradients.size(); ++j)
+    for (size_t i = 0; i < x.size(); ++i) CHECK(sameBits(a.constraintGradients[j][i], b.constraintGradients[j][i]));
+  // and the values agree with the plain evaluation's to round-off
+  const Evaluation plain = evaluateDesign(s, x, o1);
+  CHECK(std::abs(a.objective - plain.objective) <= 1e-10 * plain.objective);
+}
