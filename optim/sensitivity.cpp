@@ -1,6 +1,9 @@
 // Sensitivity studies on the simulator (sensitivity.hpp).
 #include "optim/sensitivity.hpp"
 
+#include "sim/drop_gradient.hpp"
+#include "sim/parameters.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -96,6 +99,7 @@ std::vector<SensitivityOutput> sensitivityOutputs(const Study& s, const Sensitiv
 }
 
 std::string derivativeSource(const SensitivitySettings& g) {
+  if (g.exactDerivatives) return "exact (forward mode through the run, ceres::Jet)";
   return "central differences, relative step h = " + shortNum(g.step);
 }
 
@@ -115,11 +119,9 @@ uq::Outcome evaluateSensitivityDesign(const Study& s, const SensitivitySettings&
   const std::size_t nc = g.cases.size();
   out.y.assign(g.metrics.size() * nc, kNaN);
   try {
-    Scene scene;
-    try {
-      scene = buildScene(designDocument(s, x), s.sceneFile, s.sceneDir);
-    } catch (const InputError& e) {
-      out.failure = std::string("the scene rejects the design: ") + e.what();
+    Scene scene = s.scene;  // the design as data (sim/parameters.hpp)
+    if (const auto why = applyParameters(scene, s.parameters, x)) {
+      out.failure = "the scene rejects the design: " + *why;
       return out;
     }
     const std::vector<DropCase> all = designCases(s, scene, true);
@@ -145,10 +147,63 @@ uq::Outcome evaluateSensitivityDesign(const Study& s, const SensitivitySettings&
 
 namespace {
 
-void runLocal(const Study& s, const SensitivitySettings& g, const SensitivityOptions& o, uq::Communicator& comm,
-              SensitivityResult& r) {
+// The exact local study: one run at the baseline with the derivatives of every output (each case of
+// interest on its own thread; every rank computes the same bits).
+void runLocalExact(const Study& s, const SensitivitySettings& g, const SensitivityOptions& o, SensitivityResult& r) {
   LocalStudy L;
   for (const auto& v : s.variables) L.x0.push_back(v.initial);
+  L.exact = true;
+  L.points = L.x0;
+  const std::size_t nc = g.cases.size(), d = L.x0.size();
+  uq::Outcome run;
+  run.y.assign(g.metrics.size() * nc, kNaN);
+  std::vector<CaseGradient> grads(nc);
+  Scene scene = s.scene;
+  if (const auto why = applyParameters(scene, s.parameters, L.x0)) {
+    run.failure = "the scene rejects the design: " + *why;
+  } else {
+    const std::vector<DropCase> all = designCases(s, scene, true);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, o.threads))
+    for (int c = 0; c < static_cast<int>(nc); ++c) grads[c] = caseGradient(scene, all[g.cases[c]], s.parameters);
+    for (std::size_t c = 0; c < nc; ++c) {
+      if (!grads[c].ok) {
+        run.failure += (run.failure.empty() ? "" : "; ") + std::string("case '") + grads[c].caseName + "': " + grads[c].message;
+        continue;
+      }
+      for (std::size_t k = 0; k < g.metrics.size(); ++k) run.y[k * nc + c] = grads[c].find(g.metrics[k])->value;
+    }
+  }
+  L.runs.push_back(run);
+  for (std::size_t j = 0; j < r.outputs.size(); ++j) {
+    const SensitivityOutput& out = r.outputs[j];
+    const std::size_t c = j % nc;
+    uq::Elasticities e;
+    e.baseline = run.y[j];
+    e.E.assign(d, kNaN);
+    e.derivative.assign(d, kNaN);
+    e.why.assign(d, "");
+    const MetricDerivative* md = grads[c].ok ? grads[c].find(out.metric) : nullptr;
+    for (std::size_t i = 0; i < d; ++i) {
+      if (!md) e.why[i] = "the run failed";
+      else if (e.baseline == 0) e.why[i] = "the output is 0 at the baseline: no logarithm";
+      else {
+        e.derivative[i] = md->d[i];
+        e.E[i] = L.x0[i] / e.baseline * md->d[i];
+      }
+    }
+    L.outputs.push_back(e);
+    L.oneSided.push_back(md && !md->smooth ? md->note : "");
+  }
+  r.localFailures = failures(L.runs, r.outputs, nc, [](std::size_t) { return std::string("baseline"); });
+  r.local = std::move(L);
+}
+
+void runLocal(const Study& s, const SensitivitySettings& g, const SensitivityOptions& o, uq::Communicator& comm,
+              SensitivityResult& r) {
+  if (g.exactDerivatives) return runLocalExact(s, g, o, r);
+  LocalStudy L;
+  for (const auto& v : s.variables) L.x0.push_back(v.initial);
+  L.exact = false;
   L.h = g.step;
   L.points = uq::localDesign(L.x0, L.h);
   L.runs = runDesigns(s, g, L.points, r.outputs.size(), "local", o, comm);
@@ -158,6 +213,7 @@ void runLocal(const Study& s, const SensitivitySettings& g, const SensitivityOpt
     if (k == 0) return std::string("baseline");
     return s.variables[(k - 1) / 2].path + ((k - 1) % 2 == 0 ? " +h" : " -h");
   });
+  L.oneSided.assign(r.outputs.size(), "");
   r.local = std::move(L);
 }
 

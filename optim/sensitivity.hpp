@@ -58,7 +58,9 @@ struct RunFailure {
 
 struct LocalStudy {
   std::vector<double> x0;              // baseline (physical)
-  double h = 0;                        // relative step
+  bool exact = true;                   // exact derivatives (one run with them); false: central differences
+  double h = 0;                        // relative step (central differences)
+  std::vector<std::string> oneSided;   // per output: why its exact derivatives are one-sided ("" smooth)
   std::vector<double> points;          // 2d+1 designs (physical), row-major
   std::vector<uq::Outcome> runs;
   std::vector<uq::Elasticities> outputs;  // per output

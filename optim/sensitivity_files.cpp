@@ -49,11 +49,12 @@ std::string outputHead(const SensitivityOutput& o) {
 void localJson(std::ostream& j, const Study& s, const SensitivityResult& r) {
   const LocalStudy& L = *r.local;
   j << "  \"local\": {\"derivative_source\": " << jsonString(derivativeSource(r.settings)) << ", \"h\": "
-    << jsonNumber(L.h) << ", \"runs\": " << L.runs.size() << ", \"failures\": " << failuresJson(r.localFailures, r)
+    << (L.exact ? std::string("null") : jsonNumber(L.h)) << ", \"runs\": " << L.runs.size() << ", \"failures\": " << failuresJson(r.localFailures, r)
     << ",\n    \"outputs\": [\n";
   for (std::size_t k = 0; k < r.outputs.size(); ++k) {
     const uq::Elasticities& e = L.outputs[k];
-    j << "      " << outputHead(r.outputs[k]) << ", \"baseline\": " << jsonNumber(e.baseline) << ", \"variables\": [";
+    j << "      " << outputHead(r.outputs[k]) << ", \"baseline\": " << jsonNumber(e.baseline) << ", \"one_sided\": "
+      << jsonString(k < L.oneSided.size() ? L.oneSided[k] : "") << ", \"variables\": [";
     for (std::size_t i = 0; i < s.variables.size(); ++i)
       j << (i ? ", " : "") << "{\"variable\": " << jsonString(s.variables[i].path) << ", \"elasticity\": "
         << jsonNumber(e.E[i]) << ", \"derivative\": " << jsonNumber(e.derivative[i]) << ", \"derivative_unit\": "

@@ -79,8 +79,10 @@ std::string localSection(const Study& s, const SensitivityResult& r) {
   const LocalStudy& L = *r.local;
   m << "## Local sensitivities (elasticities at the baseline)\n\nE = d ln f / d ln x = (x / f) df/dx at the "
        "variables' baseline values; derivative source: **"
-    << derivativeSource(r.settings) << "** (E = (f(x(1+h)) - f(x(1-h))) / (2 h f(x))), " << L.runs.size()
-    << " designs (2d+1). E = 0.5 means +1 % of the parameter gives +0.5 % of the metric.\n\n";
+    << derivativeSource(r.settings) << "**"
+    << (L.exact ? " (one run with the derivatives of every output)"
+                : " (E = (f(x(1+h)) - f(x(1-h))) / (2 h f(x)), " + std::to_string(L.runs.size()) + " designs, 2d+1)")
+    << ". E = 0.5 means +1 % of the parameter gives +0.5 % of the metric.\n\n";
   for (const std::string& metric : r.settings.metrics) {
     const auto ks = outputsOf(r, metric);
     m << "### " << metric << "\n\n| variable |";
@@ -90,13 +92,35 @@ std::string localSection(const Study& s, const SensitivityResult& r) {
     m << "\n| *baseline [" << r.outputs[ks[0]].unit << "]* |";
     for (std::size_t k : ks) m << " *" << shortNumber(L.outputs[k].baseline) << "* |";
     m << "\n";
+    // One footnote per distinct one-sidedness note, numbered in the order of the cases.
+    std::vector<std::string> notes;
+    std::vector<std::vector<std::string>> noteCases;
+    auto noteOf = [&](std::size_t k) -> std::size_t {  // 0: none, else the footnote's number
+      if (k >= L.oneSided.size() || L.oneSided[k].empty()) return 0;
+      return static_cast<std::size_t>(std::find(notes.begin(), notes.end(), L.oneSided[k]) - notes.begin()) + 1;
+    };
+    for (std::size_t k : ks) {
+      if (k >= L.oneSided.size() || L.oneSided[k].empty()) continue;
+      if (noteOf(k) > notes.size()) {
+        notes.push_back(L.oneSided[k]);
+        noteCases.emplace_back();
+      }
+      noteCases[noteOf(k) - 1].push_back(r.outputs[k].caseName);
+    }
     for (std::size_t i = 0; i < s.variables.size(); ++i) {
       m << "| " << s.variables[i].path << " |";
       for (std::size_t k : ks) {
         const uq::Elasticities& e = L.outputs[k];
-        m << " " << (e.why[i].empty() ? shortNumber(e.E[i], 4) : "undefined: " + e.why[i]) << " |";
+        const std::size_t n = noteOf(k);
+        m << " " << (e.why[i].empty() ? shortNumber(e.E[i], 4) : "undefined: " + e.why[i])
+          << (n ? " (" + std::to_string(n) + ")" : "") << " |";
       }
       m << "\n";
+    }
+    for (std::size_t n = 0; n < notes.size(); ++n) {
+      m << "\n(" << n + 1 << ") one-sided in ";
+      for (std::size_t c = 0; c < noteCases[n].size(); ++c) m << (c ? ", " : "") << noteCases[n][c];
+      m << ": " << notes[n] << "\n";
     }
     m << "\n" << kMark << "tornado_" << safeFileStem(metric) << kMark << "\n\n";
   }

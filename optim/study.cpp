@@ -403,8 +403,8 @@ void parseSensitivity(const toml::table& doc, const std::string& file, Study& s)
   for (int k = 0; k < s.steeringCases(); ++k) g.cases.push_back(k);
   if (!t) return;
   TomlReader r(*t, file, "sensitivity");
-  r.allowOnly({"methods", "metrics", "cases", "seed", "step", "levels", "trajectories", "samples", "resamples",
-               "confidence"});
+  r.allowOnly({"methods", "metrics", "cases", "seed", "derivatives", "step", "levels", "trajectories", "samples",
+               "resamples", "confidence"});
   g.line = r.line();
   if (r.has("methods")) {
     g.local = g.morris = g.sobol = false;
@@ -446,6 +446,13 @@ void parseSensitivity(const toml::table& doc, const std::string& file, Study& s)
     }
   }
   g.seed = static_cast<unsigned long long>(integerIn(r, "seed", 1, 0, 9223372036854775807LL, ""));
+  const std::string deriv = r.string("derivatives", "exact");
+  if (deriv != "exact" && deriv != "central")
+    r.fail("derivatives", "value '" + deriv + "' must be \"exact\" (forward mode through the run) or \"central\" (central "
+                          "differences with relative step 'step')");
+  g.exactDerivatives = deriv == "exact";
+  if (g.exactDerivatives && r.has("step"))
+    r.fail("step", "the relative step is for derivatives = \"central\"; the exact derivatives take none");
   g.step = r.positive("step", g.step);
   if (g.step > 0.5) r.fail("step", "value " + fmt(g.step) + " must be <= 0.5 (a relative step of the central differences)");
   g.levels = static_cast<int>(integerIn(r, "levels", g.levels, 2, 100, "Morris grid levels"));

@@ -126,6 +126,7 @@ struct SensitivitySettings {
   std::vector<std::string> metrics;  // names of lg::metricCatalogue() (default: every one the scene measures)
   std::vector<int> cases;            // indices into Study::cases (default: the steering cases)
   unsigned long long seed = 1;       // Sobol shift, Morris trajectories, bootstrap
+  bool exactDerivatives = true;      // local: exact derivatives (forward mode); false: central differences
   double step = 0.01;                // [-] local: relative step h of the central differences
   int levels = 4;                    // [-] Morris: grid levels p (even)
   int trajectories = 20;             // [-] Morris: r

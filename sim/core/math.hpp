@@ -39,6 +39,9 @@ using std::tanh;
 template <class S> inline S positivePart(const S& x) { return value(x) > 0.0 ? x : S(0.0); }
 // x |x|: the orifice law. C1 (derivative 2|x|), so no event is needed.
 template <class S> inline S signedSquare(const S& x) { return value(x) >= 0.0 ? x * x : -(x * x); }
+// |x|: the orifice's damping 2 |x| (the derivative of x |x|). Kink at 0, where the right-hand
+// derivative is taken (sqrt(x^2) would give a NaN derivative there); for doubles equal to sqrt(x^2).
+template <class S> inline S magnitude(const S& x) { return value(x) >= 0.0 ? x : -x; }
 // sgn(x) regularised over the velocity scale eps > 0: x / sqrt(x^2 + eps^2). C-infinity.
 template <class S> inline S smoothSign(const S& x, double eps) {
   using std::sqrt;

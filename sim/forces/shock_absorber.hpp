@@ -106,7 +106,7 @@ template <class S> struct ShockAbsorber {
     const S q = v2 + e2;
     S c = mu * (r.p1 - pAtm) * F * e2 / (q * sqrt(q));
     const S fa = mainOrifice(r.s);
-    const S speed = sqrt(v2);
+    const S speed = magnitude(r.sdot);
     c += xi1 * rho * F * F * F * speed / (fa * fa);
     if (reboundOrifice) {
       const S F2 = annularArea();

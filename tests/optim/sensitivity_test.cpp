@@ -90,7 +90,8 @@ TEST_CASE("sensitivity: [sensitivity] defaults and a full table", "[optim][sensi
   CHECK(d.sensitivity.resamples == 100);
   const Study s = loadStudy(write("full.cfg", study("[sensitivity]\nmethods = [\"sobol\", \"local\"]\n"
                                                      "metrics = [\"stroke\", \"peak_load\"]\ncases = [\"cert-reserve\", \"cert-limit-landing\"]\n"
-                                                     "seed = 7\nstep = 0.02\nlevels = 6\ntrajectories = 9\nsamples = 64\n"
+                                                     "seed = 7\nderivatives = \"central\"\nstep = 0.02\nlevels = 6\n"
+                                                     "trajectories = 9\nsamples = 64\n"
                                                      "resamples = 50\nconfidence = 0.9\n")));
   const SensitivitySettings& g = s.sensitivity;
   CHECK(g.local);
@@ -130,8 +131,10 @@ TEST_CASE("sensitivity: bad [sensitivity] tables name file, line and key", "[opt
   expectError(t + "trajectories = 1\n", 14, "sensitivity.trajectories", "must be in [2, 100000]");
   expectError(t + "resamples = 5\n", 14, "sensitivity.resamples", "must be in [10, 100000]");
   expectError(t + "confidence = 1.0\n", 14, "sensitivity.confidence", "must be in [0.5, 1)");
-  expectError(t + "step = 0.9\n", 14, "sensitivity.step", "must be <= 0.5");
-  expectError(t + "step = -0.1\n", 14, "sensitivity.step", "must be > 0");
+  expectError(t + "derivatives = \"central\"\nstep = 0.9\n", 15, "sensitivity.step", "must be <= 0.5");
+  expectError(t + "derivatives = \"central\"\nstep = -0.1\n", 15, "sensitivity.step", "must be > 0");
+  expectError(t + "step = 0.01\n", 14, "sensitivity.step", "the exact derivatives take none");
+  expectError(t + "derivatives = \"finite\"\n", 14, "sensitivity.derivatives", "must be \"exact\"");
   expectError(t + "seed = -1\n", 14, "sensitivity.seed", "must be in [0,");
   expectError(t + "sample = 64\n", 14, "sensitivity.sample", "unknown key");
   // a local study needs nonzero baselines: said by the program's check, not by the parser (optimize
@@ -168,8 +171,16 @@ TEST_CASE("sensitivity: the program exits with status 2 on bad input and writes 
 // The library's elasticities against central differences computed here from the scene file itself:
 // the parameter scaled by 1 +- h in the document, the scene rebuilt, the matrix case run.
 TEST_CASE("sensitivity: local elasticities on the seed gear against an independent central difference", "[optim][sensitivity][seed]") {
-  const Study s = loadStudy(write("local.cfg", study("[sensitivity]\nmethods = [\"local\"]\nmetrics = [\"peak_load\", \"stroke\"]\n")));
+  const Study s = loadStudy(write("local.cfg", study("[sensitivity]\nmethods = [\"local\"]\nmetrics = [\"peak_load\", \"stroke\"]\n"
+                                                     "derivatives = \"central\"\n")));
   const SensitivityResult r = runSensitivity(s, s.sensitivity, withThreads(2));
+  // the exact ones (the default) agree with these to the differences' truncation error, O(h^2) ~ 1e-4
+  SensitivitySettings exact = s.sensitivity;
+  exact.exactDerivatives = true;
+  const SensitivityResult rx = runSensitivity(s, exact, withThreads(2));
+  REQUIRE(rx.local);
+  CHECK(rx.local->runs.size() == 1);  // one run with the derivatives
+  CHECK(derivativeSource(exact) == "exact (forward mode through the run, ceres::Jet)");
   REQUIRE(r.local);
   CHECK(r.localFailures.runs == 0);
   REQUIRE(r.outputs.size() == 2);
@@ -192,6 +203,8 @@ TEST_CASE("sensitivity: local elasticities on the seed gear against an independe
                   << " vs " << eStroke);
     CHECK(r.local->outputs[0].E[i] == Approx(ePeak).epsilon(1e-12));
     CHECK(r.local->outputs[1].E[i] == Approx(eStroke).epsilon(1e-12));
+    CHECK(rx.local->outputs[0].E[i] == Approx(ePeak).epsilon(5e-4));
+    CHECK(rx.local->outputs[1].E[i] == Approx(eStroke).epsilon(5e-4));
   }
   CHECK(r.local->outputs[0].baseline == m0.peak_load_N);
   // what they say about the gear: a larger main orifice lowers the peak load and lengthens the stroke,
@@ -223,7 +236,7 @@ TEST_CASE("sensitivity: failed runs are counted, located and dropped by whole So
   const SensitivityResult r2 = runSensitivity(s, s.sensitivity, withThreads(2));
   REQUIRE(r1.sobol);
   CHECK(r1.sobol->runs.size() == 16 * 5);
-  CHECK(r1.designs == 7 + 4 * 4 + 16 * 5);
+  CHECK(r1.designs == 1 + 4 * 4 + 16 * 5);  // the exact local study runs the baseline once
   const MethodFailures& f = r1.sobolFailures;
   CHECK(f.runs > 0);
   CHECK(f.runs < 40);
