@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 namespace lg {
 
@@ -154,8 +155,8 @@ class DropObserver {
     e0_ = e.total();
     ek0_ = e.kinetic;
     uExt0_ = externalPotential(w);
-    if (opt_.record) {
-      record(s.t, wo_, s.lambda, s.active, w);  // t = 0 in either output mode
+    if (opt_.record && (opt_.outputTimes.empty() || opt_.outputTimes[0] <= 0)) {
+      record(s.t, wo_, s.lambda, s.active, w);  // t = 0 in every output mode but a list without it
       nextRow_ = 1;
     }
     auto& M = res_.metrics;
@@ -223,10 +224,10 @@ class DropObserver {
     }
     M.constraint_violation_max = std::max(M.constraint_violation_max, viol);
     checkBottom(s);
-    if (opt_.record && opt_.outputInterval > 0) recordUniform(m, t0, t1, s, d);
+    if (opt_.record && denseRows()) recordDense(m, t0, t1, s, d);
     at(s.t, s.y, after_);  // after any jump at t1: the next step's start
     for (size_t k = 0; k < M.struts.size(); ++k) M.struts[k].force_max_N = std::max(M.struts[k].force_max_N, after_.Pa[k]);
-    if (opt_.record && opt_.outputInterval <= 0) record(s.t, wo_, s.lambda, s.active, w);
+    if (opt_.record && !denseRows()) record(s.t, wo_, s.lambda, s.active, w);
     std::swap(prev_, after_);
     ++steps_;
   }
@@ -340,12 +341,18 @@ class DropObserver {
     row.values.push_back(violationOf(active, rowsW));
     res_.samples.push_back(std::move(row));
   }
+  // Rows on the dense output (outputTimes or outputInterval) rather than one per step.
+  bool denseRows() const { return !opt_.outputTimes.empty() || opt_.outputInterval > 0; }
+  // The time of output row k: outputTimes[k] (infinity past its end), or k DT.
+  double rowTime(long k) const {
+    if (opt_.outputTimes.empty()) return static_cast<double>(k) * opt_.outputInterval;
+    return k < static_cast<long>(opt_.outputTimes.size()) ? opt_.outputTimes[k] : std::numeric_limits<double>::infinity();
+  }
   // Rows at the output times inside (t0, t1], each from the dense output with its multipliers solved
   // on the observer's workspace (the contact mode is the step's).
-  void recordUniform(const Model<double>& m, double t0, double t1, const State<double>& s, const DenseOutput<double>& d) {
-    const double dt = opt_.outputInterval;
+  void recordDense(const Model<double>& m, double t0, double t1, const State<double>& s, const DenseOutput<double>& d) {
     for (;; ++nextRow_) {
-      const double t = static_cast<double>(nextRow_) * dt;
+      const double t = rowTime(nextRow_);
       if (t > t1 * (1 + 1e-12) || t > case_.duration * (1 + 1e-12)) break;
       if (t <= t0) continue;
       d.at(std::min(t, t1), ytmp_);
@@ -453,7 +460,7 @@ class DropObserver {
   Workspace<double> wo_;                  // the observer's own: dense-output channels and output rows
   VecX<double> ytmp_, ydotTmp_, lambdaTmp_;
   std::vector<int> strutOutputs_;         // per strut: its number of outputs
-  long nextRow_ = 0;                      // next uniform output row (outputInterval > 0)
+  long nextRow_ = 0;                      // next dense output row (outputTimes, outputInterval)
   Channels prev_, end_, mid_, after_, scratch_;
   double e0_ = 0, ek0_ = 0, uExt0_ = 0;
   double workPy_ = 0, workPyAtMax_ = 0;
@@ -466,6 +473,12 @@ class DropObserver {
 
 CaseResult runCase(const Scene& scene, const DropCase& c, const CaseOptions& opt) {
   const auto start = std::chrono::steady_clock::now();
+  for (size_t k = 0; k < opt.outputTimes.size(); ++k) {
+    const double t = opt.outputTimes[k];
+    if (!(t >= 0 && t <= c.duration) || (k > 0 && !(t > opt.outputTimes[k - 1])))
+      throw std::invalid_argument("output time " + shortNumber(t) + " s (row " + std::to_string(k) +
+                                  "): the times must increase strictly within [0, duration = " + shortNumber(c.duration) + " s]");
+  }
   CaseResult res;
   res.metrics.name = c.name;
   const Model<double> m = caseModel(scene, c);
