@@ -7,10 +7,12 @@
 // the measurements are simulated in parallel there (residuals.hpp), Ceres itself runs single-threaded,
 // so the fit is the same for any thread count. Levenberg-Marquardt with dense QR.
 //
-// At the optimum: the weighted Jacobian's columns scaled to unit length must have a reciprocal
-// condition number of at least FitSettings::identifiability, else the parameters are not identifiable
-// and the message names those in the null direction (e.g. an orifice area and its loss coefficient,
-// which enter the model only as xi1 / f1^2). Otherwise the covariance is ceres::Covariance (dense SVD)
+// At the optimum, the weighted Jacobian with its columns scaled to unit length, Jn: each singular value
+// s_k (right singular vector v_k) must exceed both FitSettings::identifiability times the largest and 10
+// times the error Jn's own error could give it, sum_i |v_ik| e_i with e_i the error of column i
+// (estimated from a second Jacobian, ResidualJacobian::secondJacobian; an exact Jacobian has none).
+// Else the parameters are not identifiable and the message names those in the null direction (e.g. an
+// orifice area and its loss coefficient, which enter the model only as xi1 / f1^2). Otherwise the covariance is ceres::Covariance (dense SVD)
 // of the weighted residuals, scaled by the residual variance estimated from the fit,
 // s^2 = sum(r^2) / (m - n) (m residuals, n unknowns); standard deviations, correlations and intervals
 // x +- t(1 - (1 - confidence)/2, m - n) sd follow from it.
@@ -44,6 +46,8 @@ struct Identifiability {
   bool identifiable = true;
   double rcond = 0;       // smallest / largest singular value of the column-scaled weighted Jacobian
   double threshold = 0;   // FitSettings::identifiability
+  std::vector<double> columnError;  // per unknown: estimated error of its column scaled to unit length (empty: none)
+  double limit = 0;       // the smallest singular value accepted in the weakest direction, relative to the largest
   std::vector<std::size_t> involved;  // unknowns in the null directions
   std::string message;    // for people; empty when identifiable
 };
@@ -90,9 +94,10 @@ class FitError : public std::runtime_error {
 FitResult runFit(const Calibration& c, const FitOptions& o);
 
 // The identifiability of the unknowns from the stacked weighted Jacobian J (residuals x unknowns, in the
-// unknowns' units) at the values x (for the direction in relative terms).
-Identifiability identifiability(const Eigen::MatrixXd& J, const std::vector<double>& x, const std::vector<std::string>& names,
-                                const std::vector<std::string>& units, double threshold);
+// unknowns' units) at the values x (for the direction in relative terms); J2 (empty: none) a second
+// estimate of J whose difference to it bounds J's error.
+Identifiability identifiability(const Eigen::MatrixXd& J, const Eigen::MatrixXd& J2, const std::vector<double>& x,
+                                const std::vector<std::string>& names, const std::vector<std::string>& units, double threshold);
 
 // Residual statistics of each channel of measurement m for simulated values s.
 std::vector<ChannelStats> channelStats(const Measurement& m, const Simulated& s);

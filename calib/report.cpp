@@ -104,7 +104,10 @@ std::string resultJson(const Calibration& c, const FitResult& r) {
     << jsonBool(r.converged) << ", \"iterations\": " << r.iterations << ", \"initial_cost\": " << jsonNumber(r.initialCost)
     << ", \"final_cost\": " << jsonNumber(r.finalCost) << ", \"evaluations\": " << r.evaluations << "},\n";
   j << "  \"identifiability\": {\"identifiable\": " << jsonBool(r.ident.identifiable) << ", \"rcond\": "
-    << jsonNumber(r.ident.rcond) << ", \"threshold\": " << jsonNumber(r.ident.threshold) << ", \"involved\": [";
+    << jsonNumber(r.ident.rcond) << ", \"threshold\": " << jsonNumber(r.ident.threshold) << ", \"limit\": "
+    << jsonNumber(r.ident.limit) << ", \"column_errors\": [";
+  for (std::size_t k = 0; k < r.ident.columnError.size(); ++k) j << (k ? ", " : "") << jsonNumber(r.ident.columnError[k]);
+  j << "], \"involved\": [";
   for (std::size_t k = 0; k < r.ident.involved.size(); ++k) j << (k ? ", " : "") << jsonString(r.names[r.ident.involved[k]]);
   j << "], \"message\": " << jsonString(r.ident.message) << "},\n  \"parameters\": [\n";
   for (std::size_t i = 0; i < r.names.size(); ++i)
@@ -234,6 +237,13 @@ std::string parametersSection(const Calibration& c, const FitResult& r) {
       << "] | " << shortNumber(r.initial[i]) << " | **" << shortNumber(r.value[i], 8) << "**" << (r.atBound[i] ? " (at a bound)" : "")
       << " | " << shortNumber(r.sd[i], 3) << " | " << interval(r.lo[i], r.hi[i]) << " | "
       << (isShift(c, i) || r.value[i] == 0 ? "-" : shortNumber(r.sd[i] / std::abs(r.value[i]), 3)) << " |\n";
+  double worst = 0;
+  for (double e : r.ident.columnError) worst = std::max(worst, e);
+  m << "\nIdentifiability: the weighted Jacobian with its columns scaled to unit length has a smallest singular value "
+    << shortNumber(r.ident.rcond, 3) << " of its largest; the limit in that direction is " << shortNumber(r.ident.limit, 3)
+    << ", the larger of the threshold " << shortNumber(r.ident.threshold, 3) << " and 10 times what the columns' own errors "
+    << "could give it (estimated from a second Jacobian with twice the steps; the largest column error "
+    << shortNumber(worst, 3) << " of the column).\n";
   m << "\nJacobian: **" << r.jacobianSource << "**. Covariance: " << covarianceSource() << " = " << shortNumber(r.s2, 5) << " (m = "
     << r.residuals << " fitted samples, n = " << r.unknowns << " unknowns, " << r.dof << " degrees of freedom); the "
     << "interval is value +- t sd with Student's t = " << shortNumber(r.t, 5) << ". The residual variance is estimated from "
@@ -265,7 +275,7 @@ std::string parametersSection(const Calibration& c, const FitResult& r) {
 std::string residualsSection(const Calibration& c, const FitResult& r, const std::string& note) {
   std::ostringstream m;
   m << "## Residuals (simulated - measured) per channel\n\n| measurement | channel | unit | fitted | before: mean | RMS | "
-       "max |r| | after: mean | RMS | max |r| (at t [s]) |\n|---|---|---|---|---|---|---|---|---|---|\n";
+       "max abs | after: mean | RMS | max abs (at t [s]) |\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < c.measurements.size(); ++k) {
     const Measurement& me = c.measurements[k];
     const MeasurementFit& f = r.measurements[k];

@@ -159,12 +159,21 @@ std::string CentralDifferences::source() const {
 }
 
 void CentralDifferences::evaluate(const Point& p, bool jacobians, std::vector<MeasurementEval>& out) const {
+  run(p, jacobians, 1.0, out);
+}
+
+bool CentralDifferences::secondJacobian(const Point& p, std::vector<MeasurementEval>& out) const {
+  run(p, true, 2.0, out);
+  return true;
+}
+
+void CentralDifferences::run(const Point& p, bool jacobians, double stepFactor, std::vector<MeasurementEval>& out) const {
   const std::size_t np = c_.parameters.size(), nm = c_.measurements.size();
   // The stencils: one per parameter (shared by the measurements), one per fitted shift.
   std::vector<Stencil> ps;
   for (std::size_t i = 0; i < np; ++i) {
     const FitParameter& q = c_.parameters[i];
-    ps.push_back(stencil(p.x[i], c_.fit.jacobianStep * q.scale, q.lower, q.upper, q.path));
+    ps.push_back(stencil(p.x[i], stepFactor * c_.fit.jacobianStep * q.scale, q.lower, q.upper, q.path));
   }
   std::vector<Stencil> ss(nm);
   std::vector<Task> tasks;
@@ -177,7 +186,7 @@ void CentralDifferences::evaluate(const Point& p, bool jacobians, std::vector<Me
       tasks.emplace_back(m, static_cast<int>(i), ps[i].b);
     }
     if (!sh.fit) continue;
-    ss[m] = stencil(p.shift[m], c_.fit.shiftStep, sh.lower, sh.upper, c_.measurements[m].name + ".t_shift");
+    ss[m] = stencil(p.shift[m], stepFactor * c_.fit.shiftStep, sh.lower, sh.upper, c_.measurements[m].name + ".t_shift");
     tasks.emplace_back(m, static_cast<int>(np), ss[m].a);
     tasks.emplace_back(m, static_cast<int>(np), ss[m].b);
   }

@@ -70,6 +70,10 @@ class ResidualJacobian {
   virtual std::string source() const = 0;
   // Every measurement of the calibration at p: out[k] for measurement k. Identical for any thread count.
   virtual void evaluate(const Point& p, bool jacobians, std::vector<MeasurementEval>& out) const = 0;
+  // For the error of the Jacobian at p (the identifiability test, fit.hpp): a second Jacobian of the same
+  // scheme with other steps, whose difference to evaluate()'s estimates the error. An exact Jacobian
+  // has no error to estimate and returns false.
+  virtual bool secondJacobian(const Point&, std::vector<MeasurementEval>&) const { return false; }
 };
 
 class CentralDifferences final : public ResidualJacobian {
@@ -78,8 +82,11 @@ class CentralDifferences final : public ResidualJacobian {
       : c_(c), threads_(threads), stop_(std::move(stop)) {}
   std::string source() const override;
   void evaluate(const Point& p, bool jacobians, std::vector<MeasurementEval>& out) const override;
+  // Central differences with twice the steps.
+  bool secondJacobian(const Point& p, std::vector<MeasurementEval>& out) const override;
 
  private:
+  void run(const Point& p, bool jacobians, double stepFactor, std::vector<MeasurementEval>& out) const;
   const Calibration& c_;
   int threads_;
   std::function<bool()> stop_;

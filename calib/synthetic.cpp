@@ -2,11 +2,11 @@
 #include "calib/synthetic.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
 #include "calib/residuals.hpp"
-#include "optim/format.hpp"
 #include "sim/drop_test.hpp"
 
 namespace lg::calib {
@@ -53,16 +53,22 @@ std::string syntheticCsv(const Scene& scene, const SyntheticSpec& spec) {
   c.measurements.push_back(m);
   const Simulated s = simulateMeasurement(c, 0, scene, spec.touchdown);
   if (!s.ok) throw std::runtime_error("the drop failed: " + s.message);
+  if (spec.digits < 1 || spec.digits > 17) throw std::invalid_argument("digits must be in [1, 17]");
+  auto num = [&](double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.*g", spec.digits, v);
+    return std::string(b);
+  };
   GaussianNoise noise(spec.seed);
   std::ostringstream o;
   o << spec.timeColumn;
   for (const auto& sc : spec.channels) o << "," << sc.csvColumn;
   o << "\n";
   for (std::size_t i = 0; i < m.t.size(); ++i) {
-    o << optim::exactNumber(m.t[i]);
+    o << num(m.t[i]);
     for (std::size_t k = 0; k < spec.channels.size(); ++k) {
       const double sigma = spec.channels[k].sigma;
-      o << "," << optim::exactNumber(s.y[k][i] + (sigma > 0 ? sigma * noise.next() : 0.0));
+      o << "," << num(s.y[k][i] + (sigma > 0 ? sigma * noise.next() : 0.0));
     }
     o << "\n";
   }

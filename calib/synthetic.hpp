@@ -29,6 +29,7 @@ struct SyntheticSpec {
   double end = 0.5;                        // [s] the last sample at most, in the rig's clock
   double touchdown = 0;                    // [s] the touchdown in the rig's clock (the t_shift to find)
   std::uint64_t seed = 1;                  // of the noise
+  int digits = 17;                         // significant digits written (17: exact; a rig writes fewer)
 };
 
 // The rows t_k = start + k / rate up to end, the channels from a drop of 'scene' and noise added; the

@@ -1,5 +1,5 @@
 // synthetic_drop SCENE --case NAME --out FILE [--set PATH=VALUE]... [--channel NAME:CSV_COLUMN[:SIGMA]]...
-//                [--rate HZ] [--start T] [--end T] [--touchdown T] [--seed S]
+//                [--rate HZ] [--start T] [--end T] [--touchdown T] [--seed S] [--digits N]
 // Writes a measurement CSV of a scene's drop as a rig would record it (calib/synthetic.hpp): samples at
 // a fixed rate in the rig's clock (touchdown at --touchdown), each channel with Gaussian noise of its
 // sigma [its SI unit] from a fixed seed. The shipped calibration example's data were made with it
@@ -56,6 +56,7 @@ int main(int argc, char** argv) {
   app.add_option("--start", spec.start, "the first sample in the rig's clock [s] (default 0)");
   app.add_option("--end", spec.end, "the last sample at most, in the rig's clock [s] (default 0.5)");
   app.add_option("--touchdown", spec.touchdown, "the touchdown in the rig's clock [s] (default 0)");
+  app.add_option("--digits", spec.digits, "significant digits written (default 17: exact)")->check(CLI::Range(1, 17));
   app.add_option("--seed", seed, "seed of the noise (default 1)")->check(CLI::Range(0LL, 9223372036854775807LL));
   if (const int rc = lg::cli::parse(app, argc, argv); rc >= 0) return rc;
   lg::Scene scene;
