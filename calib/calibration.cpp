@@ -67,13 +67,17 @@ void parseParameters(const toml::table& doc, const std::string& file, Calibratio
     double sceneValue = 0;
     try {
       p.parameter = resolveParameter(c.scene, p.path, c.sceneFile);
-      sceneValue = parameterValue(c.scene, p.parameter);
-      (void)getParameter(c.scene.doc, p.path, c.sceneFile);  // calibrated.toml writes it: the file must hold the key
     } catch (const InputError& e) {
       r.fail("path", "'" + p.path + "' is not a numeric parameter of the scene (" + e.what() + ")");
     }
     if (p.parameter.kind == Parameter::Kind::Case && p.parameter.key == "duration")
       r.fail("path", "a case's duration is no parameter of the drop: it cannot be fitted");
+    try {
+      sceneValue = parameterValue(c.scene, p.parameter);
+      (void)getParameter(c.scene.doc, p.path, c.sceneFile);  // calibrated.toml writes it: the file must hold the key
+    } catch (const InputError& e) {
+      r.fail("path", "'" + p.path + "' is not a numeric parameter of the scene file (" + e.what() + ")");
+    }
     p.unit = optim::parameterUnit(p.path);
     p.lower = r.number("lower");
     p.upper = r.number("upper");
@@ -130,20 +134,21 @@ void parseCase(const TomlReader& r, const Calibration& c, Measurement& m) {
 }
 
 // A table of channel = number (weights, sigma); each channel must be one of 'columns'.
-std::vector<std::pair<std::string, double>> channelNumbers(const TomlReader& r, const std::string& key,
+std::vector<std::pair<std::string, double>> channelNumbers(const TomlReader& r, const std::string& file, const std::string& key,
                                                            const std::vector<Channel>& channels) {
   std::vector<std::pair<std::string, double>> out;
   const toml::node* n = r.get(key);
   if (!n) return out;
   const toml::table* t = n->as_table();
   if (!t) r.fail(key, "must be a table of channel = number, e.g. { P_y = 1.0e-3 }");
+  const TomlReader tr(*t, file, r.full(key));
   for (const auto& [k, v] : *t) {
     const std::string ch(k.str());
     bool known = false;
     for (const auto& c : channels) known = known || c.name == ch;
-    if (!known) r.fail(key + "." + ch, "'" + ch + "' is not a channel of 'columns'");
-    const double x = r.toNumber(v, key + "." + ch);
-    if (!(x > 0)) r.fail(key + "." + ch, "value " + fmt(x) + " must be > 0");
+    if (!known) tr.fail(ch, "'" + ch + "' is not a channel of 'columns'");
+    const double x = tr.number(ch);
+    if (!(x > 0)) tr.fail(ch, "value " + fmt(x) + " must be > 0");
     out.emplace_back(ch, x);
   }
   return out;
@@ -155,6 +160,7 @@ void parseChannels(const TomlReader& r, const Calibration& c, Measurement& m) {
   if (!cn) r.fail("columns", "missing: which CSV column holds what, e.g. { t = \"time_s\", P_y = \"Fz_N\" }");
   const toml::table* ct = cn->as_table();
   if (!ct) r.fail("columns", "must be a table of channel = \"CSV column\", e.g. { t = \"time_s\", P_y = \"Fz_N\" }");
+  const TomlReader cr(*ct, c.file, r.full("columns"));
   const std::vector<Column> history = historyColumns(c.scene);
   std::string allowed;
   for (const auto& h : history) allowed += ", " + h.name;
@@ -162,7 +168,7 @@ void parseChannels(const TomlReader& r, const Calibration& c, Measurement& m) {
   for (const auto& [k, v] : *ct) {
     const std::string ch(k.str());
     if (!v.is_string() || v.value<std::string>()->empty())
-      r.fail("columns." + ch, "must be the name of a CSV column (a non-empty string)");
+      cr.fail(ch, "must be the name of a CSV column (a non-empty string)");
     const std::string csv(*v.value<std::string>());
     if (ch == "t") {
       timeColumn = csv;
@@ -177,18 +183,21 @@ void parseChannels(const TomlReader& r, const Calibration& c, Measurement& m) {
         chan.unit = history[h].unit;
       }
     if (chan.historyColumn < 0)
-      r.fail("columns." + ch, "'" + ch + "' is not a channel of the scene's time histories (allowed: t" + allowed.substr(0, allowed.rfind(", violation")) + ")");
+      cr.fail(ch, "'" + ch + "' is not a channel of the scene's time histories (allowed: t" +
+                      allowed.substr(0, allowed.rfind(", violation")) + ")");
     m.channels.push_back(chan);
   }
   if (timeColumn.empty()) r.fail("columns", "missing the time column: t = \"<CSV column>\" [s]");
   if (m.channels.empty()) r.fail("columns", "names no channel to compare besides t");
-  const auto weights = channelNumbers(r, "weights", m.channels), sigmas = channelNumbers(r, "sigma", m.channels);
+  const auto weights = channelNumbers(r, c.file, "weights", m.channels), sigmas = channelNumbers(r, c.file, "sigma", m.channels);
   for (auto& ch : m.channels) {
     for (const auto& [name, w] : weights)
       if (name == ch.name) ch.weight = w;
     for (const auto& [name, s] : sigmas)
       if (name == ch.name) {
-        if (ch.weight > 0) r.fail("sigma." + name, "channel '" + name + "' has a weight already: give a weight or a sigma, not both");
+        if (ch.weight > 0)
+          TomlReader(*r.get("sigma")->as_table(), c.file, r.full("sigma"))
+              .fail(name, "channel '" + name + "' has a weight already: give a weight or a sigma, not both");
         ch.sigma = s;
         ch.weight = 1 / s;
       }
@@ -198,14 +207,13 @@ void parseChannels(const TomlReader& r, const Calibration& c, Measurement& m) {
   const MeasurementCsv csv(m.file);
   const int tk = csv.column(timeColumn);
   if (tk < 0)
-    r.fail("columns.t", "column '" + timeColumn + "' is not in the header of '" + m.file + "' (its columns: " +
-                            csv.headerList() + ")");
+    cr.fail("t", "column '" + timeColumn + "' is not in the header of '" + m.file + "' (its columns: " + csv.headerList() + ")");
   std::vector<int> ks;
   for (const auto& ch : m.channels) {
     const int k = csv.column(ch.csvColumn);
     if (k < 0)
-      r.fail("columns." + ch.name, "column '" + ch.csvColumn + "' is not in the header of '" + m.file +
-                                       "' (its columns: " + csv.headerList() + ")");
+      cr.fail(ch.name, "column '" + ch.csvColumn + "' is not in the header of '" + m.file + "' (its columns: " +
+                           csv.headerList() + ")");
     ks.push_back(k);
   }
   if (csv.rows() < 2) throw InputError(m.file, csv.headerLine(), "", "a measurement needs at least 2 rows of samples");

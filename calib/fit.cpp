@@ -318,6 +318,10 @@ FitResult runFit(const Calibration& c, const FitOptions& o) {
   for (const auto& q : c.parameters) u.push_back(q.initial / q.scale);
   Evaluations evals(c, rj, u, shifts);
   evals.ensure(false);
+  if (o.stop && o.stop()) {  // Ctrl-C during the first runs: their failures are no news about the model
+    r.interrupted = true;
+    return r;
+  }
   for (std::size_t m = 0; m < c.measurements.size(); ++m)
     if (!evals.eval(m).ok)
       throw FitError("measurement '" + c.measurements[m].name + "' at the initial values: " + evals.eval(m).message);
@@ -383,6 +387,13 @@ FitResult runFit(const Calibration& c, const FitOptions& o) {
   evals.ensure(true);
   r.fitted = evals.point();
   r.value = unknownsAt(c, r.fitted);
+  Eigen::MatrixXd J2;
+  std::vector<MeasurementEval> second;
+  const bool haveSecond = rj.secondJacobian(r.fitted, second);
+  if (o.stop && o.stop()) {
+    r.interrupted = true;
+    return r;
+  }
   for (std::size_t m = 0; m < c.measurements.size(); ++m)
     if (!evals.eval(m).ok) throw FitError("measurement '" + c.measurements[m].name + "' at the optimum: " + evals.eval(m).message);
   double sq = 0;
@@ -395,9 +406,7 @@ FitResult runFit(const Calibration& c, const FitOptions& o) {
   r.lo.assign(n, NAN);
   r.hi.assign(n, NAN);
   r.atBound.assign(n, false);
-  Eigen::MatrixXd J2;
-  std::vector<MeasurementEval> second;
-  if (rj.secondJacobian(r.fitted, second)) {
+  if (haveSecond) {
     for (std::size_t m = 0; m < c.measurements.size(); ++m)
       if (!second[m].ok) throw FitError("measurement '" + c.measurements[m].name + "' at the optimum: " + second[m].message);
     J2 = stackedJacobian(c, second);
