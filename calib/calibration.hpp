@@ -85,7 +85,7 @@ struct FitSettings {
   int maxIterations = 50;
   double jacobianStep = 1e-4;         // [-] relative step h of the central differences (of the parameter's scale)
   double shiftStep = 1e-5;            // [s] step of the central differences in t_shift
-  double functionTolerance = 1e-12;   // Ceres: |d cost| / cost
+  double functionTolerance = 1e-9;    // Ceres: |d cost| / cost (at the noise's cost: about 1e-3 sd)
   double parameterTolerance = 1e-10;  // Ceres: |dx| / (|x| + tol), x scaled by each parameter's scale
   double gradientTolerance = 1e-14;   // Ceres: max-norm of the projected gradient
   double identifiability = 1e-6;      // smallest reciprocal condition number of the column-scaled Jacobian

@@ -230,105 +230,12 @@ std::vector<ChannelStats> channelStats(const Measurement& m, const Simulated& s)
   return out;
 }
 
-Identifiability identifiability(const Eigen::MatrixXd& J, const Eigen::MatrixXd& J2, const std::vector<double>& x,
-                                const std::vector<std::string>& names, const std::vector<std::string>& units, double threshold) {
-  Identifiability id;
-  id.threshold = threshold;
-  const Eigen::Index n = J.cols();
-  Eigen::VectorXd norm(n);
-  for (Eigen::Index i = 0; i < n; ++i) norm[i] = J.col(i).norm();
-  // An unknown no residual depends on.
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (!(norm[i] > 0)) {
-      id.identifiable = false;
-      id.involved.push_back(static_cast<std::size_t>(i));
-      id.message += (id.message.empty() ? "" : "; ") + names[static_cast<std::size_t>(i)] +
-                    " changes no fitted residual: the data say nothing about it";
-    }
-  if (!id.identifiable) return id;
-  const Eigen::MatrixXd Jn = J * norm.cwiseInverse().asDiagonal();
-  if (J2.size() == J.size())  // each column's error: its difference to the second Jacobian's
-    for (Eigen::Index i = 0; i < n; ++i) id.columnError.push_back((J.col(i) - J2.col(i)).norm() / norm[i]);
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(Jn, Eigen::ComputeThinV);
-  const Eigen::VectorXd& sv = svd.singularValues();  // decreasing
-  id.rcond = sv[n - 1] / sv[0];
-  // The smallest singular value each direction must have: the threshold, and 10 times what the columns'
-  // errors could give Jn v alone.
-  auto limitOf = [&](Eigen::Index k) {
-    double e = 0;
-    for (Eigen::Index i = 0; i < n && !id.columnError.empty(); ++i)
-      e += std::abs(svd.matrixV()(i, k)) * id.columnError[static_cast<std::size_t>(i)];
-    return std::max(threshold, 10 * e / sv[0]);
-  };
-  id.limit = limitOf(n - 1);
-  std::vector<bool> in(static_cast<std::size_t>(n), false);
-  std::string limits;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    const double limit = limitOf(k);
-    if (sv[k] >= limit * sv[0]) continue;
-    id.identifiable = false;
-    // The null direction in the unknowns' own units, then as changes relative to the values (absolute
-    // where a value is 0), the largest 1 %.
-    const Eigen::VectorXd v = svd.matrixV().col(k);
-    std::vector<double> change(static_cast<std::size_t>(n));
-    double big = 0;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double dx = v[i] / norm[i], xi = x[static_cast<std::size_t>(i)];
-      change[static_cast<std::size_t>(i)] = xi != 0 ? dx / std::abs(xi) : dx;
-      if (std::abs(v[i]) >= 0.1) big = std::max(big, std::abs(change[static_cast<std::size_t>(i)]));
-    }
-    std::string dir;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const std::size_t ii = static_cast<std::size_t>(i);
-      if (std::abs(v[i]) < 0.1) continue;  // a small share of the direction
-      in[ii] = true;
-      const double c = change[ii] / big * 0.01;
-      dir += std::string(dir.empty() ? "" : " with ") + (c >= 0 ? "+" : "") +
-             (x[ii] != 0 ? number(100 * c, 3) + " % " : number(c, 3) + " " + units[ii] + " ") + names[ii];
-    }
-    id.message += std::string(id.message.empty() ? "" : "; ") + dir + " leaves every fitted residual unchanged (singular value " +
-                  number(sv[k] / sv[0], 2) + " of the largest, below the limit " + number(limit, 2) + ")";
-  }
-  if (id.identifiable) return id;
-  std::string list;
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (in[static_cast<std::size_t>(i)]) id.involved.push_back(static_cast<std::size_t>(i));
-  for (std::size_t k = 0; k < id.involved.size(); ++k)
-    list += std::string(k == 0 ? "" : k + 1 == id.involved.size() ? " and " : ", ") + names[id.involved[k]];
-  id.message = "not identifiable: " + list + ": " + id.message + "; the limit is the larger of the identifiability "
-               "threshold " + number(threshold, 2) + " and 10 times what the Jacobian's own error could give the direction. The data determine only a combination of them (they may enter the model only together, as an "
-               "orifice area and its loss coefficient do in xi1 / f1^2): fix all but one at known values, or add "
-               "measurements that separate them.";
-  return id;
-}
+namespace {
 
-FitResult runFit(const Calibration& c, const FitOptions& o) {
-  FitResult r;
-  const CentralDifferences rj(c, o.threads, o.stop);  // the one place the Jacobian comes from
-  r.jacobianSource = rj.source();
-  describeUnknowns(c, r);
-  r.start = initialPoint(c);
-  r.initial = unknownsAt(c, r.start);
-  r.residuals = c.residuals();
-  r.unknowns = c.unknowns();
-  r.dof = r.residuals - r.unknowns;
-
-  // Ceres's blocks: the parameters over their scales, one block per shift (fixed ones are never blocks).
-  std::vector<double> u, shifts = r.start.shift;
-  for (const auto& q : c.parameters) u.push_back(q.initial / q.scale);
-  Evaluations evals(c, rj, u, shifts);
-  evals.ensure(false);
-  if (o.stop && o.stop()) {  // Ctrl-C during the first runs: their failures are no news about the model
-    r.interrupted = true;
-    return r;
-  }
-  for (std::size_t m = 0; m < c.measurements.size(); ++m)
-    if (!evals.eval(m).ok)
-      throw FitError("measurement '" + c.measurements[m].name + "' at the initial values: " + evals.eval(m).message);
-
-  ceres::Problem::Options po;
-  po.evaluation_callback = &evals;
-  ceres::Problem problem(po);
+// The residual blocks (one per measurement, or one per residual under a robust loss) on the blocks u
+// and shifts, with their bounds.
+void addResiduals(const Calibration& c, const Evaluations& evals, ceres::Problem& problem, std::vector<double>& u,
+                  std::vector<double>& shifts) {
   for (std::size_t m = 0; m < c.measurements.size(); ++m) {
     const Measurement& meas = c.measurements[m];
     const int n = static_cast<int>(meas.residuals());
@@ -352,12 +259,15 @@ FitResult runFit(const Calibration& c, const FitOptions& o) {
       problem.SetParameterLowerBound(&shifts[m], 0, c.measurements[m].shift.lower);
       problem.SetParameterUpperBound(&shifts[m], 0, c.measurements[m].shift.upper);
     }
+}
 
+// Levenberg-Marquardt, single-threaded (the parallel work is the simulations', outside Ceres).
+ceres::Solver::Summary solve(const Calibration& c, const FitOptions& o, ceres::Problem& problem) {
   ceres::Solver::Options so;
   so.minimizer_type = ceres::TRUST_REGION;
   so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   so.linear_solver_type = ceres::DENSE_QR;
-  so.num_threads = 1;  // the parallel work is the simulations', outside Ceres
+  so.num_threads = 1;
   so.max_num_iterations = c.fit.maxIterations;
   so.function_tolerance = c.fit.functionTolerance;
   so.parameter_tolerance = c.fit.parameterTolerance;
@@ -368,37 +278,30 @@ FitResult runFit(const Calibration& c, const FitOptions& o) {
   so.callbacks.push_back(&progress);
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
-  r.evaluations = evals.count();
-  r.termination = ceres::TerminationTypeToString(summary.termination_type);
-  r.ceresMessage = summary.message;
-  r.iterations = static_cast<int>(summary.iterations.size()) - 1;
-  r.initialCost = summary.initial_cost;
-  r.finalCost = summary.final_cost;
-  r.converged = summary.termination_type == ceres::CONVERGENCE;
-  if (o.stop && o.stop()) {
-    r.interrupted = true;
-    return r;
-  }
-  if (summary.termination_type == ceres::FAILURE || summary.termination_type == ceres::USER_FAILURE)
-    throw FitError("Ceres failed: " + summary.message);
-  if (!r.converged) r.warnings.push_back("the fit stopped before converging: " + summary.message);
+  return summary;
+}
 
-  // The optimum: its Jacobian, identifiability, covariance.
-  evals.ensure(true);
-  r.fitted = evals.point();
-  r.value = unknownsAt(c, r.fitted);
-  Eigen::MatrixXd J2;
-  std::vector<MeasurementEval> second;
-  const bool haveSecond = rj.secondJacobian(r.fitted, second);
-  if (o.stop && o.stop()) {
-    r.interrupted = true;
-    return r;
-  }
-  for (std::size_t m = 0; m < c.measurements.size(); ++m)
+// At the optimum: s^2, the t quantile, identifiability and, when identifiable, the covariance.
+void analyseOptimum(const Calibration& c, const Evaluations& evals,
+                    const std::vector<MeasurementEval>& second, bool haveSecond, ceres::Problem& problem,
+                    std::vector<double>& u, std::vector<double>& shifts, FitResult& r) {
+  for (std::size_t m = 0; m < c.measurements.size(); ++m) {
     if (!evals.eval(m).ok) throw FitError("measurement '" + c.measurements[m].name + "' at the optimum: " + evals.eval(m).message);
+    if (haveSecond && !second[m].ok)
+      throw FitError("measurement '" + c.measurements[m].name + "' at the optimum: " + second[m].message);
+  }
   double sq = 0;
-  for (const auto& e : evals.evals()) sq += e.r.squaredNorm();
+  std::vector<double> absR;
+  for (const auto& e : evals.evals()) {
+    sq += e.r.squaredNorm();
+    for (Eigen::Index k = 0; k < e.r.size(); ++k) absR.push_back(std::abs(e.r[k]));
+  }
   r.s2 = sq / static_cast<double>(r.dof);
+  if (c.fit.loss != Loss::None) {  // outliers must not inflate it: s = 1.4826 median |r| (normal-consistent)
+    std::nth_element(absR.begin(), absR.begin() + static_cast<std::ptrdiff_t>(absR.size() / 2), absR.end());
+    const double s = 1.482602218505602 * absR[absR.size() / 2];
+    r.s2 = s * s;
+  }
   r.t = boost::math::quantile(boost::math::complement(boost::math::students_t(static_cast<double>(r.dof)),
                                                       (1 - c.fit.confidence) / 2));
   const std::size_t n = r.names.size();
@@ -406,17 +309,15 @@ FitResult runFit(const Calibration& c, const FitOptions& o) {
   r.lo.assign(n, NAN);
   r.hi.assign(n, NAN);
   r.atBound.assign(n, false);
-  if (haveSecond) {
-    for (std::size_t m = 0; m < c.measurements.size(); ++m)
-      if (!second[m].ok) throw FitError("measurement '" + c.measurements[m].name + "' at the optimum: " + second[m].message);
-    J2 = stackedJacobian(c, second);
-  }
-  r.ident = identifiability(stackedJacobian(c, evals.evals()), J2, r.value, r.names, r.units, c.fit.identifiability);
+  r.ident = identifiability(stackedJacobian(c, evals.evals()), haveSecond ? stackedJacobian(c, second) : Eigen::MatrixXd(),
+                            r.value, r.names, r.units, c.fit.identifiability);
   if (r.ident.identifiable) covariance(c, problem, u, shifts, r);
   else r.covarianceMessage = "not computed: the parameters are not identifiable";
   unknownWarnings(r);
+}
 
-  // The histories before and after, every channel.
+// Every channel of every measurement at the initial and at the fitted point, and their residual statistics.
+void simulateHistories(const Calibration& c, const FitOptions& o, FitResult& r) {
   r.measurements.resize(c.measurements.size());
   for (std::size_t m = 0; m < c.measurements.size(); ++m) {
     MeasurementFit& f = r.measurements[m];
@@ -430,7 +331,69 @@ FitResult runFit(const Calibration& c, const FitOptions& o) {
     f.statsBefore = channelStats(c.measurements[m], f.before);
     f.statsAfter = channelStats(c.measurements[m], f.after);
   }
-  if (o.stop && o.stop()) r.interrupted = true;
+}
+
+bool stopped(const FitOptions& o) { return o.stop && o.stop(); }
+
+}  // namespace
+
+FitResult runFit(const Calibration& c, const FitOptions& o) {
+  FitResult r;
+  const CentralDifferences rj(c, o.threads, o.stop);  // the one place the Jacobian comes from
+  r.jacobianSource = rj.source();
+  describeUnknowns(c, r);
+  r.start = initialPoint(c);
+  r.initial = unknownsAt(c, r.start);
+  r.residuals = c.residuals();
+  r.unknowns = c.unknowns();
+  r.dof = r.residuals - r.unknowns;
+
+  // Ceres's blocks: the parameters over their scales, one block per shift (fixed ones are never blocks).
+  std::vector<double> u, shifts = r.start.shift;
+  for (const auto& q : c.parameters) u.push_back(q.initial / q.scale);
+  Evaluations evals(c, rj, u, shifts);
+  evals.ensure(false);
+  if (stopped(o)) {  // Ctrl-C during the first runs: their failures are no news about the model
+    r.interrupted = true;
+    return r;
+  }
+  for (std::size_t m = 0; m < c.measurements.size(); ++m)
+    if (!evals.eval(m).ok)
+      throw FitError("measurement '" + c.measurements[m].name + "' at the initial values: " + evals.eval(m).message);
+
+  ceres::Problem::Options po;
+  po.evaluation_callback = &evals;
+  ceres::Problem problem(po);
+  addResiduals(c, evals, problem, u, shifts);
+  const ceres::Solver::Summary summary = solve(c, o, problem);
+  r.evaluations = evals.count();
+  r.termination = ceres::TerminationTypeToString(summary.termination_type);
+  r.ceresMessage = summary.message;
+  r.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  r.initialCost = summary.initial_cost;
+  r.finalCost = summary.final_cost;
+  r.converged = summary.termination_type == ceres::CONVERGENCE;
+  if (stopped(o)) {
+    r.interrupted = true;
+    return r;
+  }
+  if (summary.termination_type == ceres::FAILURE || summary.termination_type == ceres::USER_FAILURE)
+    throw FitError("Ceres failed: " + summary.message);
+  if (!r.converged) r.warnings.push_back("the fit stopped before converging: " + summary.message);
+
+  // The optimum: its Jacobian and a second one for the Jacobian's error, identifiability, covariance.
+  evals.ensure(true);
+  r.fitted = evals.point();
+  r.value = unknownsAt(c, r.fitted);
+  std::vector<MeasurementEval> second;
+  const bool haveSecond = rj.secondJacobian(r.fitted, second);
+  if (stopped(o)) {
+    r.interrupted = true;
+    return r;
+  }
+  analyseOptimum(c, evals, second, haveSecond, problem, u, shifts, r);
+  simulateHistories(c, o, r);
+  if (stopped(o)) r.interrupted = true;
   return r;
 }
 

@@ -7,15 +7,11 @@
 // the measurements are simulated in parallel there (residuals.hpp), Ceres itself runs single-threaded,
 // so the fit is the same for any thread count. Levenberg-Marquardt with dense QR.
 //
-// At the optimum, the weighted Jacobian with its columns scaled to unit length, Jn: each singular value
-// s_k (right singular vector v_k) must exceed both FitSettings::identifiability times the largest and 10
-// times the error Jn's own error could give it, sum_i |v_ik| e_i with e_i the error of column i
-// (estimated from a second Jacobian, ResidualJacobian::secondJacobian; an exact Jacobian has none).
-// Else the parameters are not identifiable and the message names those in the null direction (e.g. an
-// orifice area and its loss coefficient, which enter the model only as xi1 / f1^2). Otherwise the covariance is ceres::Covariance (dense SVD)
-// of the weighted residuals, scaled by the residual variance estimated from the fit,
-// s^2 = sum(r^2) / (m - n) (m residuals, n unknowns); standard deviations, correlations and intervals
-// x +- t(1 - (1 - confidence)/2, m - n) sd follow from it.
+// At the optimum: identifiability (identifiability.hpp) and, when the parameters are identifiable, the
+// covariance: ceres::Covariance (dense SVD) of the weighted residuals, scaled by the residual variance
+// estimated from the fit, s^2 = sum(r^2) / (m - n) (m residuals, n unknowns; with a robust loss
+// s = 1.4826 median |r|, which the outliers do not inflate); standard deviations, correlations and
+// intervals x +- t(1 - (1 - confidence)/2, m - n) sd follow from it.
 #pragma once
 
 #include <functional>
@@ -26,6 +22,7 @@
 #include <Eigen/Dense>
 
 #include "calib/calibration.hpp"
+#include "calib/identifiability.hpp"
 #include "calib/residuals.hpp"
 
 namespace lg::calib {
@@ -41,17 +38,6 @@ struct MeasurementFit {
   std::vector<ChannelStats> statsBefore, statsAfter;  // per channel
 };
 
-// The parameters the data do not separate.
-struct Identifiability {
-  bool identifiable = true;
-  double rcond = 0;       // smallest / largest singular value of the column-scaled weighted Jacobian
-  double threshold = 0;   // FitSettings::identifiability
-  std::vector<double> columnError;  // per unknown: estimated error of its column scaled to unit length (empty: none)
-  double limit = 0;       // the smallest singular value accepted in the weakest direction, relative to the largest
-  std::vector<std::size_t> involved;  // unknowns in the null directions
-  std::string message;    // for people; empty when identifiable
-};
-
 struct FitResult {
   bool interrupted = false;
   std::string jacobianSource;   // ResidualJacobian::source()
@@ -62,7 +48,7 @@ struct FitResult {
   int evaluations = 0;          // points at which every measurement was simulated (with or without the Jacobian)
   double initialCost = 0, finalCost = 0;  // Ceres's cost: sum of rho(r^2) / 2
   std::size_t residuals = 0, unknowns = 0, dof = 0;
-  double s2 = 0;                // residual variance estimated from the fit: sum(r^2) / (m - n)
+  double s2 = 0;                // residual variance estimated from the fit: sum(r^2) / (m - n) (robust loss: (1.4826 median |r|)^2)
   // Unknowns: the parameters, then each fitted t_shift.
   std::vector<std::string> names, units;
   std::vector<double> initial, value, sd, lo, hi;
@@ -92,12 +78,6 @@ class FitError : public std::runtime_error {
 
 // Runs the fit; throws FitError when the initial point cannot be evaluated.
 FitResult runFit(const Calibration& c, const FitOptions& o);
-
-// The identifiability of the unknowns from the stacked weighted Jacobian J (residuals x unknowns, in the
-// unknowns' units) at the values x (for the direction in relative terms); J2 (empty: none) a second
-// estimate of J whose difference to it bounds J's error.
-Identifiability identifiability(const Eigen::MatrixXd& J, const Eigen::MatrixXd& J2, const std::vector<double>& x,
-                                const std::vector<std::string>& names, const std::vector<std::string>& units, double threshold);
 
 // Residual statistics of each channel of measurement m for simulated values s.
 std::vector<ChannelStats> channelStats(const Measurement& m, const Simulated& s);

@@ -66,9 +66,10 @@ std::string outcome(const FitResult& r) {
   return r.converged ? "converged" : "stopped before converging";
 }
 
-std::string covarianceSource() {
-  return "ceres::Covariance (dense SVD) of the weighted residuals' Jacobian at the optimum, scaled by the residual "
-         "variance estimated from the fit, s^2 = sum(r^2) / (m - n)";
+std::string covarianceSource(const Calibration& c) {
+  return std::string("ceres::Covariance (dense SVD) of the weighted residuals' Jacobian at the optimum, scaled by the "
+                     "residual variance estimated from the fit, ") +
+         (c.fit.loss == Loss::None ? "s^2 = sum(r^2) / (m - n)" : "s^2 = (1.4826 median |r|)^2 (robust loss)");
 }
 
 // The unknown's kind for the tables: the parameters, then one t_shift per measurement that fits it.
@@ -95,7 +96,7 @@ std::string resultJson(const Calibration& c, const FitResult& r) {
   std::ostringstream j;
   j << "{\n  \"calibration\": " << jsonString(c.name) << ",\n  \"calibration_file\": " << jsonString(c.file)
     << ",\n  \"scene\": " << jsonString(c.sceneFile) << ",\n  \"outcome\": " << jsonString(outcome(r))
-    << ",\n  \"jacobian\": " << jsonString(r.jacobianSource) << ",\n  \"covariance\": " << jsonString(covarianceSource())
+    << ",\n  \"jacobian\": " << jsonString(r.jacobianSource) << ",\n  \"covariance\": " << jsonString(covarianceSource(c))
     << ",\n  \"residual_variance_from_fit\": true,\n  \"s2\": " << jsonNumber(r.s2) << ",\n  \"residuals\": " << r.residuals
     << ",\n  \"unknowns\": " << r.unknowns << ",\n  \"dof\": " << r.dof << ",\n  \"confidence\": "
     << jsonNumber(c.fit.confidence) << ",\n  \"t_quantile\": " << jsonNumber(r.t) << ",\n  \"loss\": {\"kind\": "
@@ -244,14 +245,15 @@ std::string parametersSection(const Calibration& c, const FitResult& r) {
     << ", the larger of the threshold " << shortNumber(r.ident.threshold, 3) << " and 10 times what the columns' own errors "
     << "could give it (estimated from a second Jacobian with twice the steps; the largest column error "
     << shortNumber(worst, 3) << " of the column).\n";
-  m << "\nJacobian: **" << r.jacobianSource << "**. Covariance: " << covarianceSource() << " = " << shortNumber(r.s2, 5) << " (m = "
+  m << "\nJacobian: **" << r.jacobianSource << "**. Covariance: " << covarianceSource(c) << " = " << shortNumber(r.s2, 5) << " (m = "
     << r.residuals << " fitted samples, n = " << r.unknowns << " unknowns, " << r.dof << " degrees of freedom); the "
     << "interval is value +- t sd with Student's t = " << shortNumber(r.t, 5) << ". The residual variance is estimated from "
     << "the fit, so the standard deviations hold whatever the weights' scale; with sigma given per channel, s^2 near 1 says "
     << "the stated noise matches the residuals.";
   if (c.fit.loss != Loss::None)
     m << " With the robust loss (" << lossName(c.fit.loss) << ", scale " << shortNumber(c.fit.lossScale)
-      << ") Ceres's covariance uses the loss-corrected Jacobian.";
+      << ") Ceres's covariance uses the loss-corrected Jacobian, and s^2 is estimated robustly, s = 1.4826 median |r| "
+         "(outliers do not inflate it).";
   m << "\n\n";
   if (r.covariance) {
     m << "### Correlation matrix\n\n| |";

@@ -90,6 +90,48 @@ TEST_CASE("calibrate: noisy data are recovered within 3 standard deviations, s^2
   CHECK(r.measurements[0].statsAfter[0].rms == Approx(500).epsilon(0.06));  // P_y [N]
 }
 
+TEST_CASE("calibrate: a robust loss keeps spikes in the data from biasing the fit", "[calib][fit]") {
+  // Every 15th load sample from 0.03 s to 0.25 s carries a +20 kN spike (40 sigma). Least squares is
+  // pulled off the fit of the same data without spikes; a Cauchy loss at 3 (residuals in sigma) is not.
+  const std::string clean = limitCsv(kTruth, 0.0123, 1, 5);
+  std::istringstream in(clean);
+  std::string spiked, line;
+  for (int row = -1; std::getline(in, line); ++row) {
+    if (row >= 60 && row <= 500 && row % 15 == 0) {
+      const auto a = line.find(','), b = line.find(',', a + 1);
+      line = line.substr(0, a + 1) + std::to_string(std::stod(line.substr(a + 1, b - a - 1)) + 2e4) + line.substr(b);
+    }
+    spiked += line + "\n";
+  }
+  auto fit = [&](const std::string& csv, const std::string& fitTable) {
+    TempDir dir("robust");
+    writeFile(dir / "drop.csv", csv);
+    writeFile(dir / "c.cfg", calibText("drop.csv", "sigma = { P_y = 500.0, s = 2e-4, h = 2e-4 }\nt_shift = \"fit\"\nt_shift_range = [0.0, 0.03]",
+                                       threeParameters() + fitTable));
+    lg::calib::FitOptions o;
+    o.threads = 2;
+    return lg::calib::runFit(lg::calib::loadCalibration(dir / "c.cfg"), o);
+  };
+  const FitResult reference = fit(clean, ""), plain = fit(spiked, ""), robust = fit(spiked, "[fit]\nloss = \"cauchy\"\nloss_scale = 3.0\n");
+  REQUIRE(robust.covariance);
+  double worstPlain = 0, worstRobust = 0;
+  for (std::size_t i = 0; i < reference.names.size(); ++i) {
+    // Against the clean fit, in its standard deviations.
+    const double zp = (plain.value[i] - reference.value[i]) / reference.sd[i];
+    const double zr = (robust.value[i] - reference.value[i]) / reference.sd[i];
+    std::printf("spikes: %-14s least squares %+.2f sd, Cauchy %+.2f sd off the fit without spikes; sd %.3g / %.3g\n",
+                reference.names[i].c_str(), zp, zr, robust.sd[i], reference.sd[i]);
+    worstPlain = std::max(worstPlain, std::abs(zp));
+    worstRobust = std::max(worstRobust, std::abs(zr));
+    // The robust fit's uncertainty is the clean data's (its s^2 is estimated robustly), not inflated.
+    CHECK(robust.sd[i] == Approx(reference.sd[i]).epsilon(0.1));
+  }
+  std::printf("spikes: s^2 least squares %.3g, Cauchy %.3g, without spikes %.3g\n", plain.s2, robust.s2, reference.s2);
+  CHECK(worstPlain > 3);
+  CHECK(worstRobust < 0.5);
+  CHECK(std::abs(robust.s2 - 1) < 0.1);
+}
+
 TEST_CASE("calibrate: an orifice area fitted with its loss coefficient is reported as not identifiable", "[calib][fit]") {
   TempDir dir("xi1");
   const FitResult r =
