@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "calib/report.hpp"
 #include "calib/residuals.hpp"
 #include "sim/drop_test.hpp"
 
@@ -213,4 +214,34 @@ TEST_CASE("calibrate: the central-difference Jacobian against independent deriva
   CHECK(worst / big < 1e-5);
   // Before touchdown the stroke does not move: zero columns there.
   for (std::size_t i = 0; i < before; ++i) CHECK(e[0].Jshift[static_cast<Eigen::Index>(2 * n + i)] == 0);
+}
+
+TEST_CASE("calibrate: a scene case's own parameter (its sink speed) fitted through the scene, a known t_shift", "[calib][fit]") {
+  // The rig dropped at 2.97 m/s where the scene's limit case says 3.05, its clock 4 ms ahead of the
+  // touchdown (known): the fit finds the sink speed, and calibrated.toml's limit case carries it.
+  TempDir dir("sink");
+  lg::calib::SyntheticSpec spec;
+  spec.dropCase = seedGear().cases[2];
+  REQUIRE(spec.dropCase.name == "limit");
+  spec.dropCase.sinkSpeed = 2.97;
+  spec.channels = {{"P_y", "Fz_N", 0}, {"s", "stroke_m", 0}};
+  spec.end = 0.3;
+  spec.touchdown = 0.004;
+  writeFile(dir / "drop.csv", lg::calib::syntheticCsv(seedGear(), spec));
+  writeFile(dir / "c.cfg", "scene = \"" + sourcePath("data/seed_gear.toml") +
+                               "\"\n[[measurement]]\nfile = \"drop.csv\"\ncase = \"limit\"\ncolumns = { t = \"time_s\", P_y = "
+                               "\"Fz_N\", s = \"stroke_m\" }\nweights = { P_y = 1e-3, s = 1e3 }\nt_shift = 0.004\n" +
+                               parameter("limit.sink_speed", 2.5, 3.5));
+  const lg::calib::Calibration c = lg::calib::loadCalibration(dir / "c.cfg");
+  lg::calib::FitOptions o;
+  o.threads = 2;
+  const FitResult r = lg::calib::runFit(c, o);
+  REQUIRE(r.ident.identifiable);
+  std::printf("sink speed: fitted %.12g m/s, true 2.97, relative error %.2g\n", r.value[0], std::abs(r.value[0] - 2.97) / 2.97);
+  CHECK(std::abs(r.value[0] - 2.97) / 2.97 < 1e-6);
+  CHECK(r.names.size() == 1);  // a known t_shift is no unknown
+  const std::string toml = lg::calib::calibratedToml(c, r, dir / "out");
+  const lg::Scene cal = lg::parseScene(toml, "calibrated.toml");  // its header comments included
+  CHECK(cal.cases[2].sinkSpeed == r.value[0]);
+  CHECK(cal.cases.size() == seedGear().cases.size());  // a scene case: nothing added
 }
