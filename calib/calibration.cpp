@@ -154,18 +154,13 @@ std::vector<std::pair<std::string, double>> channelNumbers(const TomlReader& r, 
   return out;
 }
 
-// columns, weights, sigma; then the CSV itself (its times, its channels, its length against the case's).
-void parseChannels(const TomlReader& r, const Calibration& c, Measurement& m) {
-  const toml::node* cn = r.get("columns");
-  if (!cn) r.fail("columns", "missing: which CSV column holds what, e.g. { t = \"time_s\", P_y = \"Fz_N\" }");
-  const toml::table* ct = cn->as_table();
-  if (!ct) r.fail("columns", "must be a table of channel = \"CSV column\", e.g. { t = \"time_s\", P_y = \"Fz_N\" }");
-  const TomlReader cr(*ct, c.file, r.full("columns"));
+// columns: the channels (without weights yet) and the CSV's time column.
+std::string parseColumns(const TomlReader& r, const TomlReader& cr, const toml::table& ct, const Calibration& c, Measurement& m) {
   const std::vector<Column> history = historyColumns(c.scene);
   std::string allowed;
   for (const auto& h : history) allowed += ", " + h.name;
   std::string timeColumn;
-  for (const auto& [k, v] : *ct) {
+  for (const auto& [k, v] : ct) {
     const std::string ch(k.str());
     if (!v.is_string() || v.value<std::string>()->empty())
       cr.fail(ch, "must be the name of a CSV column (a non-empty string)");
@@ -189,6 +184,11 @@ void parseChannels(const TomlReader& r, const Calibration& c, Measurement& m) {
   }
   if (timeColumn.empty()) r.fail("columns", "missing the time column: t = \"<CSV column>\" [s]");
   if (m.channels.empty()) r.fail("columns", "names no channel to compare besides t");
+  return timeColumn;
+}
+
+// weights and sigma of the channels.
+void parseWeights(const TomlReader& r, const Calibration& c, Measurement& m) {
   const auto weights = channelNumbers(r, c.file, "weights", m.channels), sigmas = channelNumbers(r, c.file, "sigma", m.channels);
   for (auto& ch : m.channels) {
     for (const auto& [name, w] : weights)
@@ -202,8 +202,11 @@ void parseChannels(const TomlReader& r, const Calibration& c, Measurement& m) {
         ch.weight = 1 / s;
       }
   }
+}
 
-  // The CSV: the mistakes in the calibration file name it, those in the rows name the CSV.
+// The CSV: its times, its channels, its length against the case's. The mistakes in the calibration file
+// (a column the CSV lacks) name it, those in the rows name the CSV.
+void readCsv(const TomlReader& cr, const std::string& timeColumn, Measurement& m) {
   const MeasurementCsv csv(m.file);
   const int tk = csv.column(timeColumn);
   if (tk < 0)
@@ -232,6 +235,18 @@ void parseChannels(const TomlReader& r, const Calibration& c, Measurement& m) {
                          "), beyond the end of case '" + m.dropCase.name + "' (duration " + fmt(m.dropCase.duration) +
                          " s): a measurement may not be longer than its simulated drop (give the measurement a longer "
                          "duration, or cut the file)");
+}
+
+// columns, weights, sigma; then the CSV itself.
+void parseChannels(const TomlReader& r, const Calibration& c, Measurement& m) {
+  const toml::node* cn = r.get("columns");
+  if (!cn) r.fail("columns", "missing: which CSV column holds what, e.g. { t = \"time_s\", P_y = \"Fz_N\" }");
+  const toml::table* ct = cn->as_table();
+  if (!ct) r.fail("columns", "must be a table of channel = \"CSV column\", e.g. { t = \"time_s\", P_y = \"Fz_N\" }");
+  const TomlReader cr(*ct, c.file, r.full("columns"));
+  const std::string timeColumn = parseColumns(r, cr, *ct, c, m);
+  parseWeights(r, c, m);
+  readCsv(cr, timeColumn, m);
 }
 
 // t_shift and t_shift_range.

@@ -339,7 +339,8 @@ bool stopped(const FitOptions& o) { return o.stop && o.stop(); }
 
 FitResult runFit(const Calibration& c, const FitOptions& o) {
   FitResult r;
-  const CentralDifferences rj(c, o.threads, o.stop);  // the one place the Jacobian comes from
+  const CentralDifferences differences(c, o.threads, o.stop);
+  const ResidualJacobian& rj = o.jacobian ? *o.jacobian : differences;  // the one place the Jacobian comes from
   r.jacobianSource = rj.source();
   describeUnknowns(c, r);
   r.start = initialPoint(c);

@@ -12,7 +12,8 @@
 // second-order differences where a central step would leave the bounds; its 1 + 2 (p + shift) runs per
 // measurement go over the threads, each into its own slot, so the result is the same for any thread
 // count. An exact Jacobian (automatic derivatives through the drop test, ceres::Jet) is another
-// ResidualJacobian with the same evaluate(): nothing else in the fit changes.
+// ResidualJacobian with the same evaluate(), given to the fit as FitOptions::jacobian (fit.hpp):
+// nothing else in the fit changes (its secondJacobian() returns false: no error to estimate).
 #pragma once
 
 #include <functional>
