@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   app.add_flag("--plots", plots, "draw the report's pictures with gnuplot (the scripts are written regardless)");
   app.add_flag("--quiet", quiet, "no progress line or summary");
   if (const int rc = lg::cli::parse(app, argc, argv); rc >= 0) return rc;
+  lg::cli::installInterruptHandler();  // from here on Ctrl-C means exit status 130
 
   lg::calib::Calibration calib;
   try {
@@ -50,7 +51,6 @@ int main(int argc, char** argv) {
     return lg::cli::kFailed;
   }
   threads = lg::cli::resolveThreads(threads);
-  lg::cli::installInterruptHandler();
   const bool tty = !quiet && isatty(fileno(stderr));
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };

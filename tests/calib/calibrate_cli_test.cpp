@@ -115,7 +115,7 @@ TEST_CASE("calibrate: Ctrl-C stops the fit, exit status 130, nothing written", "
   TempDir dir("sigint");
   const std::string cmd = q(binPath("calibrate")) + " " + q(sourcePath("studies/seed_gear_calibration.cfg")) + " --out " +
                           q(dir / "out") + " --threads 1 --quiet > " + q(dir / "log.txt") +
-                          " 2>&1 & pid=$!; sleep 1; kill -INT $pid; wait $pid";
+                          " 2>&1 & pid=$!; sleep 2; kill -INT $pid; wait $pid";
   const int st = std::system(cmd.c_str());
   REQUIRE(WIFEXITED(st));
   CHECK(WEXITSTATUS(st) == 130);
