@@ -104,10 +104,11 @@ inline std::string parameter(const std::string& path, double lower, double upper
   return o.str();
 }
 
-// Runs a program of build/bin with arguments; returns its exit status, its output in 'out'.
-inline int run(const std::string& program, const std::string& args, std::string& out) {
+// Runs a program of build/bin with arguments (after the shell commands 'prefix'); returns its exit status,
+// its output in 'out'.
+inline int run(const std::string& program, const std::string& args, std::string& out, const std::string& prefix = "") {
   TempDir log("log");
-  const std::string cmd = q(binPath(program)) + " " + args + " > " + q(log / "log.txt") + " 2>&1";
+  const std::string cmd = prefix + q(binPath(program)) + " " + args + " > " + q(log / "log.txt") + " 2>&1";
   const int st = std::system(cmd.c_str());
   out = readFile(log / "log.txt");
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;

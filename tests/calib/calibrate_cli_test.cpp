@@ -111,6 +111,25 @@ TEST_CASE("calibrate: parameters the data cannot separate: exit status 1, named,
   CHECK(fs::exists(dir / "o/calibrated.toml"));
 }
 
+TEST_CASE("calibrate: an output that cannot be written is an error, the directory found before the fit", "[calib][cli]") {
+  TempDir dir("write");
+  writeCalibration(dir, parameter("strut.f1", 3e-5, 1.6e-4) + parameter("strut.p01", 2e6, 4e6));
+  std::string out;
+  // an output directory below a regular file cannot exist (for root too): exit 1 at once
+  writeFile(dir / "file", "x");
+  CHECK(run("calibrate", q(dir / "c.cfg") + " --out " + q(dir / "file/out"), out) == 1);
+  CHECK(out.rfind("error: cannot create the output directory", 0) == 0);
+  // a write that fails (the file-size limit, as a full disk would) is an error, never a "wrote" line, and
+  // leaves no half-written file
+  CHECK(run("calibrate", q(dir / "c.cfg") + " --out " + q(dir / "full") + " --threads 2", out, "trap '' XFSZ; ulimit -f 8; ") == 1);
+  CHECK(out.find("error: cannot write '") != std::string::npos);
+  CHECK(out.find("wrote") == std::string::npos);
+  for (const auto& e : fs::directory_iterator(dir / "full")) {
+    INFO(e.path());
+    CHECK(e.path().filename().string().find(".tmp") == std::string::npos);
+  }
+}
+
 TEST_CASE("calibrate: Ctrl-C stops the fit, exit status 130, nothing written", "[calib][cli]") {
   TempDir dir("sigint");
   const std::string cmd = q(binPath("calibrate")) + " " + q(sourcePath("studies/seed_gear_calibration.cfg")) + " --out " +
