@@ -20,12 +20,14 @@
 #include "sim/io/plots.hpp"
 #include "sim/io/results.hpp"
 #include "sim/io/toml_reader.hpp"  // lg::fmt
+#include "sim/metrics.hpp"
+#include "sim/parameters.hpp"
 
 namespace {
 
 struct Options {
   std::string scene, outDir = "out", integrator, sinkSpeeds, liftRatios;
-  std::vector<std::string> cases, sets;
+  std::vector<std::string> cases, sets, gradient;
   bool plots = false, quiet = false;
   int threads = 0;
   double rtol = 0, atol = 0, step = 0, duration = 0.8, outputInterval = 0;
@@ -87,8 +89,36 @@ lg::Scene loadInputs(const Options& o, const CLI::App& app, std::vector<lg::Drop
   return scene;
 }
 
+// The parameters of --gradient, resolved in the scene (after --set); throws lg::InputError.
+std::vector<lg::Parameter> gradientParameters(const Options& o, const lg::Scene& scene) {
+  std::vector<lg::Parameter> out;
+  for (const auto& list : o.gradient) {
+    size_t start = 0;
+    while (start <= list.size()) {
+      const auto comma = list.find(',', start);
+      const std::string path = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+      try {
+        out.push_back(lg::resolveParameter(scene, path, "command line"));
+        lg::checkGradientParameter(out.back(), "command line");
+      } catch (const lg::InputError& e) {
+        throw lg::InputError("command line", 0, "--gradient",
+                             "'" + path + "': " + std::string(e.what()).substr(std::string(e.what()).find(": ", 14) + 2));
+      }
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+  }
+  return out;
+}
+
+struct Gradients {
+  std::vector<lg::CaseGradient> cases;
+  std::vector<std::string> units;
+};
+
 // Writes every output file (atomically); throws std::runtime_error on the first that fails.
-void writeOutputs(const Options& o, const lg::Scene& scene, const std::vector<lg::CaseResult>& results, bool gnuplot) {
+void writeOutputs(const Options& o, const lg::Scene& scene, const std::vector<lg::CaseResult>& results, bool gnuplot,
+                  const Gradients* g) {
   namespace fs = std::filesystem;
   for (const auto& r : results) {
     const std::string stem = lg::safeFileStem(r.metrics.name);
@@ -106,7 +136,9 @@ void writeOutputs(const Options& o, const lg::Scene& scene, const std::vector<lg
     if (!lg::drawCaseFigure(f, o.outDir, stem, gnuplot, &why) && gnuplot)
       std::cerr << "plot of " << r.metrics.name << " skipped: " << why << "\n";
   }
-  lg::writeFileAtomic((fs::path(o.outDir) / "summary.json").string(), lg::summaryJson(scene, results));
+  lg::writeFileAtomic((fs::path(o.outDir) / "summary.json").string(),
+                      lg::summaryJson(scene, results, g ? &g->cases : nullptr, g ? &g->units : nullptr));
+  if (g) lg::writeFileAtomic((fs::path(o.outDir) / "gradient.csv").string(), lg::gradientCsv(g->cases, g->units));
   lg::writeFileAtomic((fs::path(o.outDir) / "summary.csv").string(), lg::summaryCsv(results));
 }
 
@@ -119,6 +151,28 @@ void printTable(const std::vector<lg::CaseResult>& results) {
     std::printf("%-10s %12.1f %9.5f %7.3f %9.5f %9.5f %9.5f %7.4f %7.4f %10.2e %6ld %9.3f  %s\n", m.name.c_str(),
                 m.peak_load_N, m.t_peak_s, m.load_factor, m.stroke_max_m, m.h_max_m, m.tyre_deflection_max_m,
                 m.efficiency, m.strut_efficiency, m.energy_balance_error, m.steps, 1e3 * m.wall_time_s, lim.c_str());
+  }
+}
+
+// The derivatives of the peak load and the stroke per case, for the terminal (all in gradient.csv).
+void printGradients(const Gradients& g) {
+  if (g.cases.empty()) return;
+  const auto& params = g.cases.front().parameters;
+  std::printf("%-10s %-14s", "case", "metric");
+  for (size_t j = 0; j < params.size(); ++j)
+    std::printf(" %22s", ("d/d" + params[j] + "[" + g.units[j] + "]").c_str());
+  std::printf("\n");
+  for (const auto& c : g.cases) {
+    if (!c.ok) {
+      std::printf("%-10s FAILED: %s\n", c.caseName.c_str(), c.message.c_str());
+      continue;
+    }
+    for (const char* metric : {"peak_load", "stroke"}) {
+      const auto* m = c.find(metric);
+      std::printf("%-10s %-14s", c.caseName.c_str(), (std::string(metric) + "[" + lg::findMetric(metric)->unit + "]").c_str());
+      for (double d : m->d) std::printf(" %22.6g", d);
+      std::printf("%s\n", m->smooth ? "" : "  (one-sided: see note)");
+    }
   }
 }
 
@@ -143,12 +197,16 @@ int main(int argc, char** argv) {
   app.add_option("--lift-ratios", o.liftRatios, "the matrix's lift ratios, a,b,c or start:step:stop (default 0)");
   app.add_option("--duration", o.duration, "the matrix cases' duration [s] (default 0.8)");
   app.add_option("--output-interval", o.outputInterval, "CSV rows every DT seconds from the dense output (default: one per step) [s]");
+  app.add_option("--gradient", o.gradient, "derivatives of every metric with respect to these parameters, PATH[,PATH...] "
+                                           "(exact, forward mode): into summary.json and gradient.csv");
   if (const int rc = lg::cli::parse(app, argc, argv); rc >= 0) return rc;
 
   lg::Scene scene;
   std::vector<lg::DropCase> cases;
+  std::vector<lg::Parameter> gradientParams;
   try {
     scene = loadInputs(o, app, cases);
+    gradientParams = gradientParameters(o, scene);
   } catch (const lg::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return lg::cli::kUsage;
@@ -192,6 +250,14 @@ int main(int argc, char** argv) {
   }
   if (tty && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > 1.0)
     std::fprintf(stderr, "\r%60s\r", "");
+  Gradients gradients;
+  if (!gradientParams.empty()) {
+    for (const auto& p : gradientParams) gradients.units.push_back(lg::parameterUnit(scene, p));
+    gradients.cases.resize(cases.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (int i = 0; i < static_cast<int>(cases.size()); ++i)
+      if (!lg::cli::interrupted()) gradients.cases[i] = lg::caseGradient(scene, cases[i], gradientParams);
+  }
   if (lg::cli::interrupted()) {
     std::cerr << "interrupted: nothing written\n";
     return lg::cli::kInterrupted;
@@ -206,15 +272,16 @@ int main(int argc, char** argv) {
   const bool gnuplot = o.plots && lg::haveGnuplot();
   if (o.plots && !gnuplot) std::cerr << "plots skipped: gnuplot is not installed (scripts/setup.sh installs gnuplot-nox)\n";
   try {
-    writeOutputs(o, scene, results, gnuplot);
+    writeOutputs(o, scene, results, gnuplot, gradientParams.empty() ? nullptr : &gradients);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return lg::cli::kFailed;
   }
   if (!o.quiet) {
     printTable(results);
-    std::printf("wrote %s/summary.json, summary.csv and %zu case file(s)%s\n", o.outDir.c_str(), results.size(),
-                gnuplot ? " with plots" : "");
+    if (!gradientParams.empty()) printGradients(gradients);
+    std::printf("wrote %s/summary.json, summary.csv%s and %zu case file(s)%s\n", o.outDir.c_str(),
+                gradientParams.empty() ? "" : ", gradient.csv", results.size(), gnuplot ? " with plots" : "");
   }
   return failed ? lg::cli::kFailed : lg::cli::kOk;
 }

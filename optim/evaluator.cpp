@@ -6,6 +6,7 @@
 #include <exception>
 #include <limits>
 
+#include "sim/drop_gradient.hpp"
 #include "sim/metrics.hpp"
 
 namespace lg::optim {
@@ -69,6 +70,7 @@ Evaluation reduceMetrics(const Study& s, std::vector<CaseMetrics> cases, double 
   for (int i = 0; i < steering; ++i) {
     if (s.cases[i].role != CaseRole::Objective) continue;
     const double fi = peak ? e.cases[i].peak_load_N : e.cases[i].efficiency;
+    if (s.objective.aggregate == Aggregate::Worst) e.terms.push_back(fi);
     if (s.objective.aggregate == Aggregate::WeightedSum) f = (std::isnan(f) ? 0.0 : f) + s.cases[i].weight * fi;
     else if (std::isnan(f)) f = fi;
     else f = peak ? std::max(f, fi) : std::min(f, fi);  // the worst case
@@ -131,6 +133,59 @@ Evaluation evaluateDesign(const Study& s, const std::vector<double>& x, const Ev
   }
 }
 
+Evaluation evaluateDesignGradient(const Study& s, const std::vector<double>& x, const EvaluatorOptions& o) {
+  try {
+    Scene scene = s.scene;
+    if (const auto why = applyParameters(scene, s.parameters, x)) {
+      Evaluation ev;
+      ev.message = "the scene rejects the design: " + *why;
+      return ev;
+    }
+    const std::vector<DropCase> cases = designCases(s, scene, false);
+    std::vector<CaseGradient> g(cases.size());
+    const int n = static_cast<int>(cases.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, o.threads))
+    for (int i = 0; i < n; ++i) g[i] = caseGradient(scene, cases[i], s.parameters);
+    std::vector<CaseMetrics> metrics;
+    for (const auto& cg : g) metrics.push_back(cg.values);
+    Evaluation e = reduceMetrics(s, std::move(metrics), kNaN);
+    if (!e.ok) return e;
+    // The same reduction on the derivatives (the worst term's where the objective is their worst:
+    // one-sided at a tie, which the epigraph form of a gradient study avoids).
+    const bool peak = s.objective.kind == ObjectiveKind::MinPeakLoad;
+    const std::string objectiveMetric = peak ? "peak_load" : "efficiency";
+    e.objectiveGradient.assign(x.size(), 0.0);
+    double worst = kNaN;
+    for (int i = 0; i < n; ++i) {
+      if (s.cases[i].role != CaseRole::Objective) continue;
+      const std::vector<double>& d = g[i].find(objectiveMetric)->d;
+      const double fi = peak ? e.cases[i].peak_load_N : e.cases[i].efficiency;
+      if (s.objective.aggregate == Aggregate::WeightedSum) {
+        for (size_t k = 0; k < d.size(); ++k) e.objectiveGradient[k] += s.cases[i].weight * d[k];
+      } else {
+        e.termGradients.push_back(d);
+        if (std::isnan(worst) || (peak ? fi > worst : fi < worst)) {
+          worst = fi;
+          e.objectiveGradient = d;
+        }
+      }
+    }
+    for (const auto& it : s.items) {
+      const ConstraintSpec& c = s.constraints[it.spec];
+      const std::vector<double>& d = g[it.caseIndex].find(c.metric)->d;
+      std::vector<double> dg(d.size());
+      for (size_t k = 0; k < d.size(); ++k) dg[k] = c.upper ? d[k] : -d[k];
+      e.constraintGradients.push_back(dg);
+    }
+    e.hasGradient = true;
+    return e;
+  } catch (const std::exception& ex) {
+    Evaluation ev;
+    ev.message = std::string("evaluation failed: ") + ex.what();
+    return ev;
+  }
+}
+
 Problem makeProblem(const Study& s, const EvaluatorOptions& o) {
   Problem p;
   p.variables = s.variables;
@@ -141,6 +196,9 @@ Problem makeProblem(const Study& s, const EvaluatorOptions& o) {
   EvaluatorOptions steering = o;
   steering.checks = false;
   p.evaluate = [&s, steering](const std::vector<double>& x) { return evaluateDesign(s, x, steering); };
+  p.worstOfTerms = s.objective.aggregate == Aggregate::Worst;
+  if (!s.staticStrokeNeeded)
+    p.evaluateGradient = [&s, steering](const std::vector<double>& x) { return evaluateDesignGradient(s, x, steering); };
   return p;
 }
 

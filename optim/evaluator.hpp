@@ -38,7 +38,12 @@ Evaluation reduceMetrics(const Study& s, std::vector<CaseMetrics> cases, double 
 Evaluation evaluateDesign(const Study& s, const std::vector<double>& x, const EvaluatorOptions& o,
                           std::vector<CaseResult>* results = nullptr);
 
-// The study as an optimisation Problem.
+// The same with the derivatives of the objective, its terms and every constraint with respect to the
+// variables (sim/drop_gradient.hpp: exact, forward mode; the values are the Jet run's, equal to the
+// double run's to round-off). Needs no static_stroke constraint.
+Evaluation evaluateDesignGradient(const Study& s, const std::vector<double>& x, const EvaluatorOptions& o);
+
+// The study as an optimisation Problem (with derivatives unless it constrains the static stroke).
 Problem makeProblem(const Study& s, const EvaluatorOptions& o);
 
 }  // namespace lg::optim

@@ -47,6 +47,13 @@ struct Evaluation {
   std::vector<double> constraints;  // g_j in physical units; feasible when every g_j <= 0
   std::vector<CaseMetrics> cases;   // per-case detail (simulator problems; empty when cached)
   double staticStroke = std::numeric_limits<double>::quiet_NaN();  // [m] when computed
+  // The objective's terms f_i when it is their worst (Problem::worstOfTerms): the objective cases'.
+  std::vector<double> terms;
+  // Derivatives with respect to the variables (physical units), when evaluated with them.
+  bool hasGradient = false;
+  std::vector<double> objectiveGradient;                 // d objective / d x
+  std::vector<std::vector<double>> termGradients;        // d f_i / d x
+  std::vector<std::vector<double>> constraintGradients;  // d g_j / d x
 };
 
 // ok, finite and every constraint <= 0.
@@ -59,8 +66,14 @@ struct Problem {
   bool maximize = false;
   double objectiveScale = 0;                 // fscale; 0: |f(initial)| (1 if zero or failed)
   std::string objectiveName = "objective";
+  // The objective is the worst of Evaluation::terms (their largest when minimising, smallest when
+  // maximising): a gradient algorithm then solves NLopt's epigraph form (below).
+  bool worstOfTerms = false;
   // Evaluates a design in physical units; must not throw.
   std::function<Evaluation(const std::vector<double>& x)> evaluate;
+  // The same with the derivatives (hasGradient); null when the problem has none. Gradient algorithms
+  // need it.
+  std::function<Evaluation(const std::vector<double>& x)> evaluateGradient;
 };
 
 // One finished evaluation, as the history logs it.
@@ -108,7 +121,17 @@ std::string describeConstraintHandling(const std::string& algorithm, double pena
 // Validates an algorithm name (and its local optimiser); returns an empty string or the rule broken.
 std::string checkAlgorithm(const std::string& name, const std::string& local);
 
+// True for the algorithms that use derivatives: LD_SLSQP, LD_MMA, LD_CCSAQ, LD_LBFGS (bounds only), and
+// GD_MLSL / GD_MLSL_LDS around an LD local optimiser.
+bool usesGradients(const std::string& name, const std::string& local);
+
 // Runs NLopt; never throws for evaluation failures or NLopt stops (NLopt errors land in 'reason').
+//
+// Gradient algorithms. NLopt gets the derivatives of fhat and ghat_j with respect to u (the chain rule
+// through the linear or log map of each variable). An objective that is the worst of several terms has a
+// kink where the worst changes; a gradient method stalls there, so NLopt solves the epigraph form: one
+// more variable t, the objective t, and one constraint fhat_i(u) - t <= 0 per term, t started at the
+// baseline's worst term. The history logs the design at every evaluation as always.
 OptimizationResult runOptimizer(const Problem& p, const AlgorithmSettings& a, const Observer& obs = {},
                                 const EvaluationCache* cache = nullptr);
 

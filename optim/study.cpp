@@ -37,7 +37,7 @@ std::vector<double> toScaled(const std::vector<Variable>& vars, const std::vecto
 
 bool nativeConstraints(const std::string& a) {
   return a == "LN_COBYLA" || a == "GN_ISRES" || a == "GN_AGS" || a == "AUGLAG" || a == "LN_AUGLAG" ||
-         a == "AUGLAG_EQ" || a == "LN_AUGLAG_EQ";
+         a == "AUGLAG_EQ" || a == "LN_AUGLAG_EQ" || a == "LD_SLSQP" || a == "LD_MMA" || a == "LD_CCSAQ";
 }
 
 const char* roleName(CaseRole r) {
@@ -358,6 +358,11 @@ void parseAlgorithm(const toml::table& doc, const std::string& file, Study& s) {
   if (a.initialStep > 1) r.fail("initial_step", "value " + fmt(a.initialStep) + " must be <= 1 (scaled units)");
   if (a.maxeval == 0 && a.maxtime == 0 && a.xtolRel == 0 && a.ftolRel == 0)
     r.fail("maxeval", "give at least one stopping rule (maxeval, maxtime, xtol_rel or ftol_rel)");
+  if (usesGradients(a.name, a.local) && s.staticStrokeNeeded)
+    r.fail("name", "'" + a.name + "' needs derivatives, and the static_stroke constraint has none: use a derivative-free "
+                   "algorithm (LN_COBYLA, ...)");
+  if (a.name == "LD_LBFGS" && !s.items.empty())
+    r.fail("name", "LD_LBFGS handles bounds only, and this study has constraints: use LD_SLSQP, LD_MMA or LD_CCSAQ");
 }
 
 // A list of strings (a single string is a list of one); errors name the key.

@@ -112,6 +112,34 @@ struct CaseResult {
 
 // The total mass [kg] of a case: the scene's bodies with the case's mass overrides.
 double caseMass(const Scene& scene, const DropCase& c);
+// Applies a case to a model of the scene (any scalar): the case's masses, and the lift L G g on the
+// lift elements with G the total mass (L and the masses may carry derivatives).
+template <class S> void applyCase(const Scene& scene, Model<S>& m, const DropCase& c, const S& liftRatio) {
+  for (const auto& [name, mass] : c.masses) m.bodies[m.bodyIndex(name)].mass = S(mass);
+  S G = S(0);  // [kg] total mass
+  for (const auto& b : m.bodies) G += b.mass;
+  for (int li : scene.roles.lifts) {
+    auto& f = m.forces[li];
+    auto& cf = std::get<ConstantForce<S>>(f.type);
+    const Vec3<double> dir = std::get<ConstantForce<double>>(scene.model.forces[li].type).force;  // unit
+    f.liftRatio = liftRatio;
+    cf.force = dir.template cast<S>() * (liftRatio * G * S(scene.gravity));
+  }
+}
+// Initial state of a case: scene positions, every body moving at the sink speed against gravity.
+template <class S> State<S> caseState(const Scene& scene, const Model<S>& m, const S& sinkSpeed) {
+  State<S> s(m);
+  s.y = scene.initial.y.template cast<S>();
+  s.lambda = scene.initial.lambda.template cast<S>();
+  s.active = scene.initial.active;
+  const int N = m.nBodies();
+  for (int b = 0; b < N; ++b) {
+    s.y.template segment<3>(7 * N + 6 * b) = -sinkSpeed * scene.up.template cast<S>();
+    s.y.template segment<3>(7 * N + 6 * b + 3).setZero();
+  }
+  s.t = S(0);
+  return s;
+}
 // The model of a case: the scene's model with the case's masses and lift applied.
 Model<double> caseModel(const Scene& scene, const DropCase& c);
 // Initial state of a case: scene positions, every body moving at sinkSpeed against gravity.

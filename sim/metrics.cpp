@@ -8,6 +8,7 @@ namespace lg {
 const std::vector<MetricInfo>& metricCatalogue() {
   static const std::vector<MetricInfo> c{
       {"peak_load", "N", "largest vertical ground load P_y,max (sum of the tyres)", 1e3},
+      {"t_peak", "s", "time of the largest vertical ground load", 1e-3},
       {"load_factor", "-", "ground-reaction load factor n_g = P_y,max / (W g)", 0.1},
       {"inertia_load_factor", "-", "inertia load factor n = n_g + L", 0.1},
       {"stroke", "m", "largest stroke of any strut", 0.01},
@@ -38,6 +39,7 @@ std::string metricNames() {
 
 double metricValue(const CaseMetrics& m, const std::string& name) {
   if (name == "peak_load") return m.peak_load_N;
+  if (name == "t_peak") return m.t_peak_s;
   if (name == "load_factor") return m.load_factor;
   if (name == "inertia_load_factor") return m.inertia_load_factor;
   if (name == "stroke") return m.stroke_max_m;

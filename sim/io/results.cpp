@@ -1,5 +1,7 @@
 #include "sim/io/results.hpp"
 
+#include "sim/metrics.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -91,15 +93,69 @@ std::string metricsJson(const CaseMetrics& m, const std::string& in) {
   return o.str();
 }
 
-std::string summaryJson(const Scene& scene, const std::vector<CaseResult>& results) {
+std::string summaryJson(const Scene& scene, const std::vector<CaseResult>& results,
+                        const std::vector<CaseGradient>* gradients, const std::vector<std::string>* units) {
   std::ostringstream out;
   out << "{\n  \"scene\": " << jsonString(scene.file) << ",\n  \"cases\": {\n";
   for (size_t i = 0; i < results.size(); ++i) {
     out << "    " << jsonString(results[i].metrics.name) << ": " << metricsJson(results[i].metrics, "    ")
         << (i + 1 < results.size() ? ",\n" : "\n");
   }
-  out << "  }\n}\n";
+  out << "  }";
+  if (gradients && units) out << ",\n  \"gradients\": " << gradientJson(*gradients, *units, "  ");
+  out << "\n}\n";
   return out.str();
+}
+
+std::string gradientJson(const std::vector<CaseGradient>& g, const std::vector<std::string>& units,
+                         const std::string& in) {
+  std::ostringstream o;
+  o << "{\n" << in << "  \"parameters\": [";
+  const std::vector<std::string> none;
+  const auto& params = g.empty() ? none : g.front().parameters;
+  for (size_t j = 0; j < params.size(); ++j)
+    o << (j ? ", " : "") << "{\"path\": " << jsonString(params[j]) << ", \"unit\": " << jsonString(units[j]) << "}";
+  o << "],\n" << in << "  \"method\": \"forward mode (ceres::Jet) through the run; one-sided where \\\"smooth\\\" is false\",\n";
+  o << in << "  \"cases\": {\n";
+  for (size_t c = 0; c < g.size(); ++c) {
+    o << in << "    " << jsonString(g[c].caseName) << ": {";
+    if (!g[c].ok) o << "\"ok\": false, \"message\": " << jsonString(g[c].message);
+    for (size_t i = 0; g[c].ok && i < g[c].metrics.size(); ++i) {
+      const auto& m = g[c].metrics[i];
+      o << (i ? "," : "") << "\n" << in << "      " << jsonString(m.metric) << ": {\"value\": " << jsonNumber(m.value)
+        << ", \"unit\": " << jsonString(findMetric(m.metric)->unit) << ", \"d\": {";
+      for (size_t j = 0; j < m.d.size(); ++j) o << (j ? ", " : "") << jsonString(params[j]) << ": " << jsonNumber(m.d[j]);
+      o << "}, \"smooth\": " << jsonBool(m.smooth) << ", \"note\": " << jsonString(m.note) << "}";
+    }
+    o << (g[c].ok ? "\n" + in + "    }" : "}") << (c + 1 < g.size() ? ",\n" : "\n");
+  }
+  o << in << "  }\n" << in << "}";
+  return o.str();
+}
+
+std::string gradientCsv(const std::vector<CaseGradient>& g, const std::vector<std::string>& units) {
+  std::string out = "case,metric,unit,value";
+  const std::vector<std::string> none;
+  const auto& params = g.empty() ? none : g.front().parameters;
+  for (size_t j = 0; j < params.size(); ++j) out += ",d/d" + params[j] + "[unit per " + units[j] + "]";
+  out += ",smooth,note\n";
+  char b[40];
+  for (const auto& cg : g) {
+    if (!cg.ok) continue;
+    for (const auto& m : cg.metrics) {
+      std::snprintf(b, sizeof b, "%.10g", m.value);
+      out += cg.caseName + "," + m.metric + "," + findMetric(m.metric)->unit + "," + (std::isfinite(m.value) ? b : "");
+      for (double d : m.d) {
+        std::snprintf(b, sizeof b, "%.10g", d);
+        out += "," + (std::isfinite(d) ? std::string(b) : std::string());
+      }
+      std::string note = m.note;
+      for (char& ch : note)
+        if (ch == '"') ch = '\'';
+      out += std::string(",") + (m.smooth ? "1" : "0") + ",\"" + note + "\"\n";
+    }
+  }
+  return out;
 }
 
 std::string summaryCsv(const std::vector<CaseResult>& results) {

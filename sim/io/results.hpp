@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/drop_gradient.hpp"
 #include "sim/drop_test.hpp"
 #include "sim/io/json.hpp"
 
@@ -17,9 +18,17 @@ std::string historyHeader(const CaseResult& r);
 std::string historyCsv(const CaseResult& r);
 // One case's metrics as a JSON object (README "Metrics").
 std::string metricsJson(const CaseMetrics& m, const std::string& indent = "  ");
-// summary.json: the scene and every case's metrics.
-std::string summaryJson(const Scene& scene, const std::vector<CaseResult>& results);
+// summary.json: the scene and every case's metrics (and their derivatives, when given).
+std::string summaryJson(const Scene& scene, const std::vector<CaseResult>& results,
+                        const std::vector<CaseGradient>* gradients = nullptr, const std::vector<std::string>* units = nullptr);
 // summary.csv: one row per case, units in the header.
 std::string summaryCsv(const std::vector<CaseResult>& results);
+
+// The derivatives of every case (simulate --gradient): a JSON object {"parameters": [{path, unit}],
+// "cases": {case: {metric: {value, unit, d: {path: d}, smooth, note}}}}, and a CSV with one row per case
+// and metric (the metric's unit in its column, the derivatives' "d/d<path>[unit per <parameter unit>]").
+std::string gradientJson(const std::vector<CaseGradient>& g, const std::vector<std::string>& units,
+                         const std::string& indent = "  ");
+std::string gradientCsv(const std::vector<CaseGradient>& g, const std::vector<std::string>& units);
 
 }  // namespace lg

@@ -30,6 +30,41 @@ Problem quadratic(bool withConstraint = true) {
   return p;
 }
 
+// The quadratic with its derivatives, and a minimax of two: f = max(f1, f2) with
+// f1 = (x - 0.2)^2 + (log10 y - 0.5)^2 + 1 and f2 = (x - 0.8)^2 + (log10 y - 0.5)^2 + 1, whose
+// minimum is at the kink x = 0.5 (f = 1.09), where a gradient method on the max itself stalls.
+Problem withGradients(Problem p, bool minimax) {
+  auto value = [minimax](const std::vector<double>& x, Evaluation& e) {
+    const double ly = std::log10(x[1]), dly = 1.0 / (x[1] * std::log(10.0));
+    if (!minimax) {
+      e.objectiveGradient = {2 * (x[0] - 0.7), 2 * (ly - 0.5) * dly};
+      return;
+    }
+    const double f1 = (x[0] - 0.2) * (x[0] - 0.2) + (ly - 0.5) * (ly - 0.5) + 1.0;
+    const double f2 = (x[0] - 0.8) * (x[0] - 0.8) + (ly - 0.5) * (ly - 0.5) + 1.0;
+    e.terms = {f1, f2};
+    e.termGradients = {{2 * (x[0] - 0.2), 2 * (ly - 0.5) * dly}, {2 * (x[0] - 0.8), 2 * (ly - 0.5) * dly}};
+    e.objective = std::max(f1, f2);
+    e.objectiveGradient = f1 >= f2 ? e.termGradients[0] : e.termGradients[1];
+  };
+  auto inner = p.evaluate;
+  p.worstOfTerms = minimax;
+  p.evaluate = [inner, value](const std::vector<double>& x) {
+    Evaluation e = inner(x);
+    value(x, e);
+    return e;
+  };
+  const bool constrained = !p.constraintNames.empty();
+  p.evaluateGradient = [inner, value, constrained](const std::vector<double>& x) {
+    Evaluation e = inner(x);
+    value(x, e);
+    if (constrained) e.constraintGradients = {{1.0, 0.0}};
+    e.hasGradient = true;
+    return e;
+  };
+  return p;
+}
+
 AlgorithmSettings algo(const std::string& name, int maxeval = 400) {
   AlgorithmSettings a;
   a.name = name;
@@ -61,6 +96,33 @@ TEST_CASE("optimizer: finds the known constrained optimum natively and by penalt
     CHECK(r.best.constraints[0] <= 0.0);
     CHECK(r.nloptCode > 0);
   }
+}
+
+TEST_CASE("optimizer: gradient algorithms find the known optimum, a minimax through its epigraph", "[optim][gradient]") {
+  for (const char* name : {"LD_SLSQP", "LD_MMA", "LD_CCSAQ"}) {
+    INFO(name);
+    const OptimizationResult r = runOptimizer(withGradients(quadratic(), false), algo(name));
+    REQUIRE(r.feasible);
+    CHECK(r.x[0] == Approx(0.5).margin(1e-5));
+    CHECK(r.x[1] == Approx(std::sqrt(10.0)).epsilon(1e-5));
+    CHECK(r.best.objective == Approx(1.04).epsilon(1e-8));  // SLSQP 1e-15, MMA and CCSAQ 3e-9
+    CHECK(r.evaluations < 60);
+  }
+  {
+    const OptimizationResult r = runOptimizer(withGradients(quadratic(false), false), algo("LD_LBFGS"));
+    CHECK(r.x[0] == Approx(0.7).margin(1e-5));
+  }
+  // the minimax: the epigraph (t, f_i - t <= 0) carries SLSQP to the kink
+  for (const char* name : {"LD_SLSQP", "LD_MMA"}) {
+    INFO(name);
+    const OptimizationResult r = runOptimizer(withGradients(quadratic(false), true), algo(name));
+    CHECK(r.x[0] == Approx(0.5).margin(1e-5));
+    CHECK(r.x[1] == Approx(std::sqrt(10.0)).epsilon(1e-5));
+    CHECK(r.best.objective == Approx(1.09).epsilon(1e-7));  // MMA 3e-8
+  }
+  // a gradient algorithm on a problem without derivatives says so
+  const OptimizationResult none = runOptimizer(quadratic(), algo("LD_SLSQP"));
+  CHECK(none.reason.find("needs the derivatives of the problem") != std::string::npos);
 }
 
 TEST_CASE("optimizer: global algorithms with a local optimiser find the optimum", "[optim]") {
@@ -164,7 +226,16 @@ TEST_CASE("optimizer: algorithm names are checked", "[optim]") {
   CHECK(checkAlgorithm("LN_COBYLA", "").empty());
   CHECK(checkAlgorithm("GN_MLSL_LDS", "LN_BOBYQA").empty());
   CHECK_FALSE(checkAlgorithm("LN_FOO", "").empty());
-  CHECK_FALSE(checkAlgorithm("LD_MMA", "").empty());
+  CHECK(checkAlgorithm("LD_MMA", "").empty());
+  CHECK(checkAlgorithm("LD_SLSQP", "").empty());
+  CHECK(checkAlgorithm("GD_MLSL_LDS", "LD_SLSQP").empty());
+  CHECK_FALSE(checkAlgorithm("LD_TNEWTON", "").empty());
+  CHECK_FALSE(checkAlgorithm("GD_STOGO", "").empty());
+  CHECK_FALSE(checkAlgorithm("GD_MLSL", "LN_BOBYQA").empty());
+  CHECK_FALSE(checkAlgorithm("GN_MLSL", "LD_MMA").empty());
+  CHECK(usesGradients("LD_SLSQP", ""));
+  CHECK(usesGradients("GD_MLSL", "LD_MMA"));
+  CHECK_FALSE(usesGradients("LN_COBYLA", ""));
   CHECK_FALSE(checkAlgorithm("LN_COBYLA", "LN_BOBYQA").empty());
   CHECK_FALSE(checkAlgorithm("GN_MLSL_LDS", "GN_DIRECT").empty());
 }

@@ -226,7 +226,14 @@ TEST_CASE("study: bad files name file, line and key", "[optim][study]") {
     expectError("algo.cfg", study(v, "[algorithm]\nname = \"LN_COBYLAX\"\n"), 18, "algorithm.name", "not an NLopt");
   }
   SECTION("gradient algorithm") {
-    expectError("grad.cfg", study(v, "[algorithm]\nname = \"LD_MMA\"\n"), 18, "algorithm.name", "gradients");
+    expectError("grad.cfg", study(v, "[algorithm]\nname = \"LD_TNEWTON\"\n"), 18, "algorithm.name",
+                "not one of the gradient algorithms supported");
+    expectError("lbfgs.cfg", study(v, "[algorithm]\nname = \"LD_LBFGS\"\n"), 18, "algorithm.name", "bounds only");
+    expectError("mlsl.cfg", study(v, "[algorithm]\nname = \"GD_MLSL\"\nlocal = \"LN_BOBYQA\"\n"), 19, "algorithm.local",
+                "must be a gradient algorithm");
+    expectError("static.cfg",
+                study(v, "[[constraint]]\nmetric = \"static_stroke\"\nmax = 0.1\n[algorithm]\nname = \"LD_SLSQP\"\n"), 21,
+                "algorithm.name", "static_stroke constraint has none");
   }
   SECTION("missing scene file") {
     std::string t = study(v);

@@ -290,3 +290,28 @@ TEST_CASE("simulate: --output-interval samples the dense output uniformly and ch
   }
   CHECK(rows == 401);
 }
+
+TEST_CASE("simulate --gradient writes every metric's derivatives, with units", "[cli][gradient]") {
+  lgtest::TempDir dir("cli_gradient");
+  const std::string out = dir / "out";
+  REQUIRE(simulate(q(lgtest::sourcePath("data/seed_gear.toml")) + " --case limit --gradient strut.f1,tyre.K --gradient "
+                   "limit.sink_speed --out " + q(out)) == 0);
+  const std::string csv = lgtest::readFile(out + "/gradient.csv");
+  CHECK(firstLine(csv) == "case,metric,unit,value,d/dstrut.f1[unit per m^2],d/dtyre.K[unit per N/m],"
+                          "d/dlimit.sink_speed[unit per m/s],smooth,note");
+  const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/seed_gear.toml"));
+  const lg::CaseGradient g =
+      lg::caseGradient(sc, lgtest::findCase(sc, "limit"),
+                       {lg::resolveParameter(sc, "strut.f1"), lg::resolveParameter(sc, "tyre.K"),
+                        lg::resolveParameter(sc, "limit.sink_speed")});
+  const std::string json = lgtest::readFile(out + "/summary.json");
+  CHECK(json.find("\"parameters\": [{\"path\": \"strut.f1\", \"unit\": \"m^2\"}") != std::string::npos);
+  CHECK(json.find("\"peak_load\": {\"value\": " + lg::jsonNumber(g.find("peak_load")->value) + ", \"unit\": \"N\", \"d\": "
+                  "{\"strut.f1\": " + lg::jsonNumber(g.find("peak_load")->d[0])) != std::string::npos);
+  CHECK(json.find("\"stroke\": {") != std::string::npos);
+  CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + static_cast<long>(lg::gradientMetrics().size()));
+  // a parameter without a derivative, or none of the scene's, is bad input
+  CHECK(simulate(q(lgtest::sourcePath("data/seed_gear.toml")) + " --gradient limit.duration --out " + q(dir / "bad")) == 2);
+  CHECK(simulate(q(lgtest::sourcePath("data/seed_gear.toml")) + " --gradient strut.xyz --out " + q(dir / "bad")) == 2);
+  CHECK(!std::filesystem::exists(dir / "bad"));
+}

@@ -1,0 +1,216 @@
+// Forward-mode derivatives of drop-test metrics (drop_gradient.hpp).
+#include "sim/drop_gradient.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "sim/core/jet.hpp"
+#include "sim/drop_observer.hpp"
+
+namespace lg {
+namespace {
+
+std::string num(double v, int digits = 4) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.*g", digits, v);
+  return b;
+}
+
+// The figure of a gradient metric, in the run's scalar.
+template <class S> S figure(const CaseFigures<S>& F, const std::string& metric) {
+  if (metric == "peak_load") return F.peak_load;
+  if (metric == "t_peak") return F.t_peak;
+  if (metric == "load_factor") return F.load_factor;
+  if (metric == "inertia_load_factor") return F.inertia_load_factor;
+  if (metric == "stroke") return F.stroke_max;
+  if (metric == "stroke_margin") return F.stroke_margin;
+  if (metric == "h_max") return F.h_max;
+  if (metric == "tyre_deflection") return F.tyre_deflection_max;
+  if (metric == "tyre_margin") return F.tyre_margin;
+  if (metric == "efficiency") return F.efficiency;
+  if (metric == "strut_efficiency") return F.strut_efficiency;
+  if (metric == "strut_force") return F.strut_force_max;
+  if (metric == "energy_absorbed") return F.energy_absorbed;
+  if (metric == "rebound_velocity") return F.rebound_velocity;
+  return S(std::numeric_limits<double>::quiet_NaN());
+}
+
+// The kinks of a run at its design, per metric (values only; see drop_gradient.hpp).
+struct Kinks {
+  std::string humps, bottoming, stick, plateau;  // a reason each, or empty
+  double tStick = -1;                   // [s] start of the first stick
+};
+
+template <class S> Kinks findKinks(const CaseFigures<S>& F, const DropCase& c, double bottomSpeed) {
+  Kinks k;
+  const double peak = value(F.peak_load), tPeak = value(F.t_peak);
+  double other = -1, tOther = 0;
+  for (const auto& [t, v] : F.loadHumps)
+    if (std::abs(t - tPeak) > 1e-9 * std::max(1.0, tPeak) && v > other) {
+      other = v;
+      tOther = t;
+    }
+  if (other > 0 && peak > 0 && (peak - other) / peak < 1e-3)
+    k.humps = "two maxima of P_y within " + num(100 * (peak - other) / peak, 2) + " % (at t = " + num(tPeak) + " s and " +
+              num(tOther) + " s): the peak can jump between them; the derivative is the one of the hump at t = " +
+              num(tPeak) + " s";
+  const double Smax = std::isnan(value(F.stroke_margin)) ? 0 : value(F.stroke_max + F.stroke_margin);
+  if (F.bottomed && bottomSpeed >= 0 && bottomSpeed < 1e-3 * c.sinkSpeed)
+    k.bottoming = "the strut reaches its bottoming stop at a speed of " + num(bottomSpeed) +
+                  " m/s: bottoming begins at this design; the derivative is the bottomed side's";
+  else if (!F.bottomed && Smax > 0 && value(F.stroke_margin) < 1e-3 * Smax)
+    k.bottoming = "the strut stops " + num(value(F.stroke_margin)) +
+                  " m short of its bottoming stop: bottoming begins near this design; the derivative is the side that "
+                  "does not bottom";
+  if (value(F.rebound_velocity) > 0 && std::abs(c.liftRatio - 1) < 1e-12)
+    k.plateau = "lift equal to the weight: after lift-off no net force acts, and with L > 1 the largest upward velocity "
+                "moves to the end of the run: its derivative in the lift ratio is one-sided (the side of L <= 1)";
+  if (!F.stickIntervals.empty()) {
+    k.tStick = F.stickIntervals.front().first;
+    k.stick = "a strut sticks from t = " + num(k.tStick) +
+              " s (|s'| within ten friction velocities): the derivative is the regularised friction's, not the Coulomb "
+              "limit's";
+  }
+  return k;
+}
+
+// The time a metric is reached (for the stick rule): the run's end for the rebound.
+template <class S> double metricTime(const CaseFigures<S>& F, const std::string& metric, double duration) {
+  if (metric == "peak_load" || metric == "t_peak" || metric == "load_factor" || metric == "inertia_load_factor" ||
+      metric == "tyre_deflection" || metric == "tyre_margin")
+    return value(F.t_peak);
+  if (metric == "strut_force") return F.tStrutForceMax;
+  if (metric == "stroke" || metric == "stroke_margin" || metric == "strut_efficiency") return F.tStrokeMax;
+  if (metric == "rebound_velocity") return duration;
+  return F.tHMax;  // h_max, efficiency, energy_absorbed
+}
+
+template <int N>
+bool runPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params, size_t first, CaseGradient& g,
+             Kinks& kinks) {
+  using J = ceres::Jet<double, N>;
+  Model<J> m = scene.model.template cast<J>();
+  J V(c.sinkSpeed), L(c.liftRatio);
+  for (size_t j = first; j < std::min(params.size(), first + N); ++j) {
+    const Parameter& p = params[j];
+    const double x = parameterValue(scene, p);
+    const J seeded(x, static_cast<int>(j - first));
+    if (p.kind != Parameter::Kind::Case) setModelParameter(m, p, seeded);
+    else if (scene.cases[p.index].name == c.name) (p.key == "sink_speed" ? V : L) = seeded;
+  }
+  applyCase(scene, m, c, L);
+  State<J> s = caseState(scene, m, V);
+  Workspace<J> w(m);
+  CaseOptions opt;
+  DropObserver<J> obs(scene, m, c, V, L, opt, nullptr);
+  const RunStatus st = simulate(m, s, w, c.duration, obs);
+  const CaseFigures<J>& F = obs.finish(s, w);
+  if (first == 0) {
+    g.values = caseMetrics(valuesOf(F), scene, c);
+    g.values.ok = st.ok;
+    g.values.message = st.message;
+    g.values.steps = st.steps;
+    g.values.rhs_evaluations = w.rhsEvaluations;
+  }
+  if (!st.ok) {
+    g.ok = false;
+    g.message = st.message;
+    return false;
+  }
+  for (auto& md : g.metrics) {
+    const J f = figure(F, md.metric);
+    md.value = f.a;
+    for (size_t j = first; j < std::min(params.size(), first + N); ++j) md.d[j] = f.v[static_cast<int>(j - first)];
+  }
+  if (first == 0) {
+    kinks = findKinks(F, c, obs.bottomingSpeed());
+    for (auto& md : g.metrics) {
+      std::string why;
+      auto add = [&](const std::string& s) { why += (why.empty() ? "" : "; ") + s; };
+      const bool peakBased = md.metric == "peak_load" || md.metric == "t_peak" || md.metric == "load_factor" ||
+                             md.metric == "inertia_load_factor" || md.metric == "efficiency" ||
+                             md.metric == "tyre_deflection" || md.metric == "tyre_margin";
+      if (peakBased && !kinks.humps.empty()) add(kinks.humps);
+      if (!kinks.bottoming.empty()) add(kinks.bottoming);
+      if (md.metric == "rebound_velocity" && !kinks.plateau.empty()) add(kinks.plateau);
+      if (!kinks.stick.empty() && kinks.tStick < metricTime(F, md.metric, c.duration)) add(kinks.stick);
+      md.smooth = why.empty();
+      md.note = why;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+const MetricDerivative* CaseGradient::find(const std::string& metric) const {
+  for (const auto& m : metrics)
+    if (m.metric == metric) return &m;
+  return nullptr;
+}
+
+const std::vector<MetricInfo>& gradientMetrics() {
+  static const std::vector<MetricInfo> list = [] {
+    std::vector<MetricInfo> out;
+    for (const char* n : {"peak_load", "t_peak", "load_factor", "inertia_load_factor", "stroke", "stroke_margin", "h_max",
+                          "tyre_deflection", "tyre_margin", "efficiency", "strut_efficiency", "strut_force",
+                          "energy_absorbed", "rebound_velocity"})
+      out.push_back(*findMetric(n));
+    return out;
+  }();
+  return list;
+}
+
+std::string parameterUnit(const Scene& scene, const Parameter& p) {
+  switch (p.kind) {
+    case Parameter::Kind::BodyMass: return "kg";
+    case Parameter::Kind::StopLength: return "m";
+    case Parameter::Kind::Case: return p.key == "sink_speed" ? "m/s" : p.key == "lift_ratio" ? "-" : "s";
+    case Parameter::Kind::Force: break;
+  }
+  const std::string& k = p.key;
+  if (k == "p01" || k == "p_atm") return "Pa";
+  if (k == "Omega0") return "m^3";
+  if (k == "f1" || k == "f2") return "m^2";
+  if (k == "rho") return "kg/m^3";
+  if (k == "K" || k == "k") return "N/m";
+  if (k == "c") return "N s/m";
+  if (k == "n" || k == "xi1" || k == "xi2" || k == "mu" || k == "alpha") return "-";
+  (void)scene;
+  return "m";  // D, D2, L0, radius, delta_max, ground_height
+}
+
+void checkGradientParameter(const Parameter& p, const std::string& where) {
+  if (p.kind == Parameter::Kind::Case && p.key == "duration")
+    throw InputError(where, 0, p.path, "a case's duration has no derivative: choose a parameter of the model or the case's "
+                                       "sink_speed or lift_ratio");
+}
+
+CaseGradient caseGradient(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params, int width) {
+  CaseGradient g;
+  g.caseName = c.name;
+  for (const auto& p : params) g.parameters.push_back(p.path);
+  for (const auto& info : gradientMetrics()) {
+    MetricDerivative md;
+    md.metric = info.name;
+    md.d.assign(params.size(), 0.0);
+    g.metrics.push_back(md);
+  }
+  Kinks kinks;
+  const size_t n = std::max<size_t>(params.size(), 1);
+  for (size_t first = 0; first < n;) {
+    // The narrowest of the widths 1, 2, 4 (at most 'width') that holds the parameters left: 5 parameters
+    // run as 4 + 1, not 4 + 4.
+    const size_t left = n - first;
+    const int w = std::min(width, left >= 4 ? 4 : left >= 2 ? (left == 2 ? 2 : 4) : 1);
+    bool ok = false;
+    if (w == 1) ok = runPass<1>(scene, c, params, first, g, kinks);
+    else if (w == 2) ok = runPass<2>(scene, c, params, first, g, kinks);
+    else ok = runPass<kJetWidth>(scene, c, params, first, g, kinks);
+    if (!ok) break;
+    first += static_cast<size_t>(w);
+  }
+  return g;
+}
+
+}  // namespace lg

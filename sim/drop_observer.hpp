@@ -1,0 +1,568 @@
+// The observer of a drop run, templated on the scalar: with double it measures a drop test (refined
+// peaks per strut and tyre, compression integrals, rebound, energy balance, and for a recorded case its
+// time histories); with ceres::Jet the same figures carry their derivatives with respect to the design
+// parameters seeded in the model.
+//
+// Derivatives of the figures. Every extremum is located on the dense output at a time t* found on
+// values (golden section where the channel's rate turns from + to -); the figure is the channel at t*,
+// so by the envelope rule its derivative is the channel's partial derivative there (the rate is 0).
+// The time of the peak load itself moves: dt*/dp = -(dP'/dp)(t*) / P''(t*) (implicit function rule on
+// the rate P' = 0), applied to t_peak. Integrals over the compression end where their integrand
+// (P_y h', P_a s') vanishes, so their end's motion adds nothing. An event inside a step moves the step's
+// end: its time carries the derivative of the event (the integrator's Newton correction), and the
+// figures taken there follow it.
+//
+// What makes a derivative one-sided is recorded for the gradient report (sim/drop_gradient.hpp): the
+// local maxima of P_y (two humps of nearly equal height: the maximum can jump between them), the
+// bottoming margin, and the intervals where a strut sticks (|s'| within the friction band, where the
+// regularised friction decides).
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <type_traits>
+#include <vector>
+
+#include "sim/drop_test.hpp"
+#include "sim/engine.hpp"
+
+namespace lg {
+
+// The larger / smaller of two scalars by value (the whole scalar, derivatives included, is kept).
+template <class S> const S& maxByValue(const S& a, const S& b) { return value(a) < value(b) ? b : a; }
+template <class S> const S& minByValue(const S& a, const S& b) { return value(b) < value(a) ? b : a; }
+
+template <class S> struct StrutFigures {
+  S stroke_max = S(0), stroke_limit = S(0), stroke_margin = S(0), force_max = S(0), efficiency = S(0), work = S(0);
+};
+template <class S> struct TyreFigures {
+  S deflection_max = S(0), deflection_limit = S(0), margin = S(0), load_max = S(0);
+};
+
+// A drop's figures in the scalar S (CaseMetrics holds their values).
+template <class S> struct CaseFigures {
+  S peak_load = S(0), t_peak = S(0), load_factor = S(0), inertia_load_factor = S(0), stroke_max = S(0),
+    stroke_margin = S(0), h_max = S(0), tyre_deflection_max = S(0), tyre_margin = S(0), efficiency = S(0),
+    strut_efficiency = S(0), strut_force_max = S(0), energy_absorbed = S(0), energy_to_absorb = S(0),
+    rebound_velocity = S(0), mass = S(0);
+  std::vector<StrutFigures<S>> struts;
+  std::vector<TyreFigures<S>> tyres;
+  double energy_dissipated = 0, energy_balance_error = 0, constraint_violation_max = 0;
+  bool compression_ended = false, bottomed = false;
+  // For the kink report (values only).
+  std::vector<std::pair<double, double>> loadHumps;     // (t, P_y) of each interior local maximum of P_y
+  std::vector<std::pair<double, double>> stickIntervals;  // [t0, t1] where a strut stuck after moving
+  double tStrokeMax = 0, tHMax = 0, tStrutForceMax = 0;  // [s] when s_max, h_max and P_a,max were reached
+};
+
+// The metrics (values) of a run's figures, for case c of the scene (defined in drop_test.cpp).
+CaseMetrics caseMetrics(const CaseFigures<double>& F, const Scene& scene, const DropCase& c);
+
+// The value parts of a run's figures.
+template <class S> CaseFigures<double> valuesOf(const CaseFigures<S>& F) {
+  CaseFigures<double> v;
+  for (auto [dst, src] : {std::pair<double*, const S*>{&v.peak_load, &F.peak_load}, {&v.t_peak, &F.t_peak},
+                          {&v.load_factor, &F.load_factor}, {&v.inertia_load_factor, &F.inertia_load_factor},
+                          {&v.stroke_max, &F.stroke_max}, {&v.stroke_margin, &F.stroke_margin}, {&v.h_max, &F.h_max},
+                          {&v.tyre_deflection_max, &F.tyre_deflection_max}, {&v.tyre_margin, &F.tyre_margin},
+                          {&v.efficiency, &F.efficiency}, {&v.strut_efficiency, &F.strut_efficiency},
+                          {&v.strut_force_max, &F.strut_force_max}, {&v.energy_absorbed, &F.energy_absorbed},
+                          {&v.energy_to_absorb, &F.energy_to_absorb}, {&v.rebound_velocity, &F.rebound_velocity},
+                          {&v.mass, &F.mass}})
+    *dst = value(*src);
+  for (const auto& st : F.struts)
+    v.struts.push_back({value(st.stroke_max), value(st.stroke_limit), value(st.stroke_margin), value(st.force_max),
+                        value(st.efficiency), value(st.work)});
+  for (const auto& t : F.tyres)
+    v.tyres.push_back({value(t.deflection_max), value(t.deflection_limit), value(t.margin), value(t.load_max)});
+  v.energy_dissipated = F.energy_dissipated;
+  v.energy_balance_error = F.energy_balance_error;
+  v.constraint_violation_max = F.constraint_violation_max;
+  v.compression_ended = F.compression_ended;
+  v.bottomed = F.bottomed;
+  return v;
+}
+
+template <class S> class DropObserver {
+ public:
+  // The channels the observer reads at one time.
+  struct Channels {
+    S t = S(0), Py = S(0), PyDot = S(0), h = S(0), hdot = S(0);
+    std::vector<S> s, sdot, Pa;        // per strut
+    std::vector<S> delta, ddelta, Pt;  // per tyre
+    Channels(size_t struts = 0, size_t tyres = 0)
+        : s(struts), sdot(struts), Pa(struts), delta(tyres), ddelta(tyres), Pt(tyres) {}
+  };
+
+  // 'record' (double only) receives the time histories when opt.record is set.
+  DropObserver(const Scene& sc, const Model<S>& m, const DropCase& c, const S& sinkSpeed, const S& liftRatio,
+               const CaseOptions& opt, CaseResult* record)
+      : sc_(sc), m_(m), case_(c), V_(sinkSpeed), L_(liftRatio), opt_(opt), rec_(record), wo_(m) {
+    airframe_ = sc.roles.airframe.empty() ? -1 : m.bodyIndex(sc.roles.airframe);
+    for (int ci : sc.roles.stops) {
+      stopRows_.push_back(m.rowOffset[ci]);
+      const auto& st = std::get<DistanceStop<S>>(m.constraints[ci].type);
+      if (!st.noFarther) bottomRows_.push_back(m.rowOffset[ci]);
+    }
+    for (int f : sc.roles.tyres) tyreOut_.push_back(m.outputOffset[f]);
+    for (int f : sc.roles.struts) {
+      strutOut_.push_back(m.outputOffset[f]);
+      strutOutputs_.push_back(static_cast<int>(m.forces[f].outputNames().size()));
+      epsFriction_ = std::max(epsFriction_, std::get<ShockAbsorber<S>>(m.forces[f].type).frictionVelocity);
+    }
+    const size_t ns = strutOut_.size(), nt = tyreOut_.size();
+    prev_ = end_ = mid_ = after_ = scratch_ = Channels(ns, nt);
+    workPa_.assign(ns, S(0));
+    workPaAtMax_.assign(ns, S(0));
+    F_.struts.resize(ns);
+    F_.tyres.resize(nt);
+    stickStart_.assign(ns, -1.0);
+    strutBottomed_.assign(ns, false);
+    moved_.assign(ns, false);
+    ytmp_ = VecX<S>::Zero(m.ny());
+    ydotTmp_ = VecX<S>::Zero(m.ny());
+    lambdaTmp_ = VecX<S>::Zero(m.nRows);
+    if (recording()) rec_->columns = historyColumns(sc);
+  }
+
+  void onStart(const Model<S>& m, const State<S>& s, Workspace<S>& w) {
+    if (airframe_ >= 0) r0_ = w.kin[airframe_].r;
+    at(s.t, s.y, prev_);
+    EnergyReport<S> e = energy(m, s, w);
+    e0_ = value(e.total());
+    ek0_ = value(e.kinetic);
+    uExt0_ = externalPotential(w);
+    if (recording() && (opt_.outputTimes.empty() || opt_.outputTimes[0] <= 0)) {
+      record(value(s.t), wo_, s.lambda, s.active, w);  // t = 0 in every output mode but a list without it
+      nextRow_ = 1;
+    }
+    F_.peak_load = prev_.Py;
+    F_.h_max = prev_.h;
+    for (size_t k = 0; k < F_.struts.size(); ++k) {
+      F_.struts[k].stroke_max = prev_.s[k];
+      F_.struts[k].force_max = prev_.Pa[k];
+    }
+    for (size_t k = 0; k < F_.tyres.size(); ++k) {
+      F_.tyres[k].deflection_max = prev_.delta[k];
+      F_.tyres[k].load_max = prev_.Pt[k];
+    }
+    checkBottom(s);
+  }
+
+  void onStep(const Model<S>& m, const State<S>& s, Workspace<S>& w, const DenseOutput<S>& d) {
+    const double viol = violation(s.active, w);
+    // Compression integrals (Simpson on the dense output) over [t0, t1], and refined extrema. The step's
+    // end is taken on the dense output, i.e. before any jump at t1 (a plastic impact or a projection
+    // changes the velocities, hence the rates and P_a, but belongs to the next step's start).
+    const S t0 = prev_.t, t1 = s.t;
+    channelsAt(t1, d, end_);
+    channelsAt(S(0.5) * (t0 + t1), d, mid_);
+    const S h = t1 - t0;
+    workPy_ += simpson(prev_.Py * prev_.hdot, mid_.Py * mid_.hdot, end_.Py * end_.hdot, h);
+    // Peak P_y where its rate (the sum of the tyres' P_t') goes from + to -.
+    double tPy = -1;
+    if (refine(prev_.PyDot, end_.PyDot, t0, t1, d, [](const Channels& c) { return c.Py; }, F_.peak_load, &F_.t_peak,
+               end_.Py, t1, &tPy) &&
+        tPy >= 0)
+      correctPeakTime(tPy, t0, t1, d);
+    if (value(prev_.PyDot) > 0 && value(end_.PyDot) < 0) F_.loadHumps.push_back({lastRefinedTime_, lastRefinedValue_});
+    for (size_t k = 0; k < F_.tyres.size(); ++k) {
+      // P_t grows with delta: both peak where delta' goes from + to -.
+      auto& T = F_.tyres[k];
+      refine(prev_.ddelta[k], end_.ddelta[k], t0, t1, d, [k](const Channels& c) { return c.delta[k]; }, T.deflection_max,
+             nullptr, end_.delta[k], t1);
+      refine(prev_.ddelta[k], end_.ddelta[k], t0, t1, d, [k](const Channels& c) { return c.Pt[k]; }, T.load_max, nullptr,
+             end_.Pt[k], t1);
+    }
+    for (size_t k = 0; k < F_.struts.size(); ++k) {
+      auto& St = F_.struts[k];
+      workPa_[k] += simpson(prev_.Pa[k] * prev_.sdot[k], mid_.Pa[k] * mid_.sdot[k], end_.Pa[k] * end_.sdot[k], h);
+      double tS = -1;
+      if (refine(prev_.sdot[k], end_.sdot[k], t0, t1, d, [k](const Channels& c) { return c.s[k]; }, St.stroke_max, nullptr,
+                 end_.s[k], t1, &tS)) {
+        workPaAtMax_[k] = workPa_[k] - (tS >= 0 ? partialStrut(k, S(tS), t1, d) : S(0));
+        F_.tStrokeMax = std::max(F_.tStrokeMax, tS < 0 ? value(t1) : tS);
+      }
+      // Peak P_a (no rate channel): searched on the dense output where the step may hold it.
+      if (refineWithoutRate(prev_.Pa[k], mid_.Pa[k], end_.Pa[k], t0, t1, d, [k](const Channels& c) { return c.Pa[k]; },
+                            St.force_max))
+        F_.tStrutForceMax = value(t1);
+      watchStick(k, value(t1), value(end_.sdot[k]));
+    }
+    double tH = -1;
+    if (value(prev_.hdot) > 0 && value(end_.hdot) <= 0) F_.compression_ended = true;
+    if (refine(prev_.hdot, end_.hdot, t0, t1, d, [](const Channels& c) { return c.h; }, F_.h_max, nullptr, end_.h, t1, &tH)) {
+      workPyAtMax_ = workPy_ - (tH >= 0 ? partialGear(S(tH), t1, d) : S(0));
+      tHmax_ = tH < 0 ? value(t1) : tH;
+      F_.tHMax = tHmax_;
+      reboundV_ = S(0);  // a new maximum of h: the rebound starts again from there
+    }
+    // Rebound: the largest upward airframe velocity -h' after the compression; refined on the dense
+    // output where the step's midpoint is above both ends.
+    if (value(t1) > tHmax_) {
+      const S ta = maxByValue(t0, S(tHmax_));
+      const bool whole = value(ta) == value(t0);
+      refineWithoutRate(whole ? S(-prev_.hdot) : S(-end_.hdot), S(-mid_.hdot), S(-end_.hdot), ta, t1, d,
+                        [](const Channels& c) { return S(-c.hdot); }, reboundV_, !whole);
+    }
+    F_.constraint_violation_max = std::max(F_.constraint_violation_max, viol);
+    checkBottom(s);
+    if (recording() && denseRows()) recordDense(m, value(t0), value(t1), s, d);
+    at(s.t, s.y, after_);  // after any jump at t1: the next step's start
+    for (size_t k = 0; k < F_.struts.size(); ++k) F_.struts[k].force_max = maxByValue(F_.struts[k].force_max, after_.Pa[k]);
+    if (recording() && !denseRows()) record(value(s.t), wo_, s.lambda, s.active, w);
+    std::swap(prev_, after_);
+    ++steps_;
+  }
+
+  bool stopRequested() const { return opt_.stop && (steps_ % 64 == 0) && opt_.stop(); }
+
+  // [m/s] the largest approach speed s' of a strut onto its bottoming stop when the stop first engaged
+  // (-1 if it never did): a speed near 0 is bottoming's onset.
+  double bottomingSpeed() const { return bottomSpeed_; }
+
+  // The figures of the run that ended in state s.
+  const CaseFigures<S>& finish(const State<S>& s, Workspace<S>& w) {
+    kinematics(m_, s.y, w);
+    EnergyReport<S> e = energy(m_, s, w);
+    const double uExt = externalPotential(w);
+    const double input = ek0_ + std::abs(uExt0_ - uExt);
+    F_.energy_balance_error = std::abs(value(e.total()) - e0_) / std::max(input, 1e-300);
+    F_.energy_dissipated = value(e.dissipated);
+    F_.energy_absorbed = workPyAtMax_;
+    S G = S(0);
+    for (const auto& b : m_.bodies) G += b.mass;
+    const S g(sc_.gravity);
+    F_.mass = G;
+    F_.energy_to_absorb = S(0.5) * G * V_ * V_ + (S(1) - L_) * G * g * F_.h_max;
+    F_.load_factor = F_.peak_load / (G * g);
+    F_.inertia_load_factor = F_.load_factor + L_;
+    F_.efficiency = (value(F_.peak_load) > 0 && value(F_.h_max) > 0) ? workPyAtMax_ / (F_.peak_load * F_.h_max) : S(0.0);
+    F_.rebound_velocity = reboundV_;
+    // Per strut and tyre, then the gear's worst.
+    const S nan(std::numeric_limits<double>::quiet_NaN());
+    F_.stroke_max = F_.strut_force_max = S(0);
+    F_.strut_efficiency = F_.struts.empty() ? S(0.0) : S(std::numeric_limits<double>::infinity());
+    F_.stroke_margin = nan;
+    for (size_t k = 0; k < F_.struts.size(); ++k) {
+      auto& St = F_.struts[k];
+      St.stroke_limit = strokeLimit(k);
+      if constexpr (!kDouble)  // the stop holds s_max at S_max: its derivative is S_max's, not the drift's
+        if (strutBottomed_[k]) St.stroke_max = S(value(St.stroke_max)) + (St.stroke_limit - S(value(St.stroke_limit)));
+      St.work = workPaAtMax_[k];
+      St.efficiency = (value(St.force_max) > 0 && value(St.stroke_max) > 0) ? St.work / (St.force_max * St.stroke_max) : S(0.0);
+      St.stroke_margin = St.stroke_limit - St.stroke_max;  // NaN without a bottoming stop
+      F_.stroke_max = maxByValue(F_.stroke_max, St.stroke_max);
+      F_.strut_force_max = maxByValue(F_.strut_force_max, St.force_max);
+      F_.strut_efficiency = minByValue(F_.strut_efficiency, St.efficiency);
+      if (!std::isnan(value(St.stroke_margin)))
+        F_.stroke_margin = std::isnan(value(F_.stroke_margin)) ? St.stroke_margin : minByValue(F_.stroke_margin, St.stroke_margin);
+      if (stickStart_[k] >= 0) closeStick(k, value(s.t));
+    }
+    F_.tyre_deflection_max = S(0);
+    F_.tyre_margin = nan;
+    for (size_t k = 0; k < F_.tyres.size(); ++k) {
+      auto& T = F_.tyres[k];
+      T.deflection_limit = std::get<Tyre<S>>(m_.forces[sc_.roles.tyres[k]].type).deltaMax;
+      T.margin = T.deflection_limit - T.deflection_max;
+      F_.tyre_deflection_max = maxByValue(F_.tyre_deflection_max, T.deflection_max);
+      F_.tyre_margin = std::isnan(value(F_.tyre_margin)) ? T.margin : minByValue(F_.tyre_margin, T.margin);
+    }
+    return F_;
+  }
+
+ private:
+  static constexpr bool kDouble = std::is_same_v<S, double>;
+  bool recording() const {
+    if constexpr (kDouble) return rec_ && opt_.record;
+    else return false;
+  }
+  // S_max of strut k from the model (a design may move L0 or the stop): L0 - L of its bottoming stop.
+  S strokeLimit(size_t k) const {
+    const int stop = k < sc_.roles.bottomingStops.size() ? sc_.roles.bottomingStops[k] : -1;
+    if (stop < 0) return S(std::numeric_limits<double>::quiet_NaN());
+    return std::get<ShockAbsorber<S>>(m_.forces[sc_.roles.struts[k]].type).L0 -
+           std::get<DistanceStop<S>>(m_.constraints[stop].type).L;
+  }
+
+  // Channels at the workspace's current kinematics (outputs must be current).
+  void channels(const S& t, const Workspace<S>& w, Channels& c) const {
+    c.t = t;
+    c.Py = c.PyDot = S(0);
+    for (size_t k = 0; k < tyreOut_.size(); ++k) {
+      const S* o = w.outputs.data() + tyreOut_[k];  // delta, P_t, delta', P_t'
+      c.delta[k] = o[0];
+      c.Pt[k] = o[1];
+      c.ddelta[k] = o[2];
+      c.Py += o[1];
+      c.PyDot += o[3];
+    }
+    for (size_t k = 0; k < strutOut_.size(); ++k) {
+      const S* o = w.outputs.data() + strutOut_[k];  // s, s', p_1, P_a, ...
+      c.s[k] = o[0];
+      c.sdot[k] = o[1];
+      c.Pa[k] = o[3];
+    }
+    c.h = c.hdot = S(0);
+    if (airframe_ >= 0) {
+      c.h = sc_.up.template cast<S>().dot(r0_ - w.kin[airframe_].r);
+      c.hdot = -sc_.up.template cast<S>().dot(w.kin[airframe_].v);
+    }
+  }
+  void forceOutputs(Workspace<S>& w) const {
+    const Kins<S> K = w.kins();
+    for (size_t f = 0; f < m_.forces.size(); ++f)
+      std::visit([&](const auto& e) { e.outputs(K, w.outputs.data() + m_.outputOffset[f]); }, m_.forces[f].type);
+  }
+  // Channels at (t, y) on the observer's own workspace (poses and force outputs only: no solve), so that
+  // the integrator's workspace is never touched.
+  void at(const S& t, const VecX<S>& y, Channels& c) {
+    poses(m_, y, wo_);
+    forceOutputs(wo_);
+    channels(t, wo_, c);
+  }
+  void channelsAt(const S& t, const DenseOutput<S>& d, Channels& c) {
+    d.at(t, ytmp_);
+    at(t, ytmp_, c);
+  }
+
+  // The time of the peak load moves with the design: dt*/dp = -(dP'/dp) / P'' at t* (Jet only). P' and
+  // P'' are differences in time of P_y on the dense output itself (the function whose maximum t* is),
+  // with a step of 1e-3 of the integration step.
+  void correctPeakTime(double t, const S& t0, const S& t1, const DenseOutput<S>& d) {
+    if constexpr (!kDouble) {
+      const double dt = 1e-3 * (value(t1) - value(t0));
+      channelsAt(S(t + dt), d, scratch_);
+      const S up = scratch_.Py;
+      channelsAt(S(t - dt), d, scratch_);
+      const S down = scratch_.Py;
+      channelsAt(S(t), d, scratch_);
+      const S rate = (up - down) / S(2 * dt);                                          // P' [N/s]
+      const double curvature = (value(up) - 2 * value(scratch_.Py) + value(down)) / (dt * dt);  // P'' [N/s^2]
+      if (curvature < 0) F_.t_peak = S(t) - (rate - S(value(rate))) / S(curvature);
+    } else {
+      (void)t;
+      (void)t0;
+      (void)t1;
+      (void)d;
+    }
+  }
+
+  // A running maximum of a channel without a rate: from its values at the step's start, middle and
+  // end, the step is searched (golden section on values) where its largest sample is inside or at the
+  // start (a maximum just after the start, or the one carried over from the previous step, lies in
+  // [t0, t_mid]); a largest value at the end is taken there, and the next step looks further.
+  // 'endOnly' (a step entered part-way): only the middle and end samples count.
+  // Returns true if the maximum moved.
+  template <class F>
+  bool refineWithoutRate(const S& v0, const S& vm, const S& v1, const S& t0, const S& t1, const DenseOutput<S>& d, F f,
+                         S& best, bool endOnly = false) {
+    const double a = value(v0), m = value(vm), b = value(v1);
+    const bool atStart = !endOnly && a >= m && a >= b, atMiddle = m > b && (endOnly || m > a);
+    if (atStart || atMiddle) {
+      const S tb = atStart ? S(0.5) * (t0 + t1) : t1;
+      return refine(S(1.0), S(-1.0), t0, tb, d, f, best, nullptr, atStart ? v0 : vm, atStart ? t0 : S(0.5) * (t0 + t1));
+    }
+    if (b > value(best)) {
+      // The largest sample at the end: the maximum is inside [t_mid, t1] if the channel already falls at
+      // t1 (a backward difference on the dense output), else at t1 or beyond.
+      const double dt = 1e-3 * (value(t1) - value(t0));
+      channelsAt(S(value(t1) - dt), d, scratch_);
+      if (value(f(scratch_)) > b) return refine(S(1.0), S(-1.0), S(0.5) * (t0 + t1), t1, d, f, best, nullptr, v1, t1);
+      best = v1;
+      return true;
+    }
+    return false;
+  }
+
+  // Friction: a strut sticks while |s'| stays within 10 eps after it has moved; intervals longer than a
+  // passage through the band (1e-3 of the run) are recorded.
+  void watchStick(size_t k, double t, double sdot) {
+    const double band = 10 * epsFriction_;
+    if (std::abs(sdot) >= band) {
+      moved_[k] = true;
+      if (stickStart_[k] >= 0) closeStick(k, t);
+    } else if (moved_[k] && stickStart_[k] < 0) {
+      stickStart_[k] = t;
+    }
+  }
+  void closeStick(size_t k, double t) {
+    if (t - stickStart_[k] > 1e-3 * case_.duration) F_.stickIntervals.push_back({stickStart_[k], t});
+    stickStart_[k] = -1;
+  }
+
+  // One row of the time histories from a workspace whose poses and force outputs are current, the
+  // multipliers, and the workspace holding the constraint rows at that state (the columns of
+  // historyColumns, in order). Double only.
+  void record(double t, const Workspace<S>& wk, const VecX<S>& lambda, const std::vector<char>& active,
+              const Workspace<S>& rowsW) {
+    if constexpr (kDouble) {
+      Sample row;
+      row.t = t;
+      row.values.reserve(rec_->columns.size());
+      const double* o = wk.outputs.data();
+      double Py = 0;
+      for (int off : tyreOut_) Py += o[off + 1];
+      if (!tyreOut_.empty()) row.values.push_back(Py);
+      if (airframe_ >= 0) row.values.push_back(sc_.up.dot(r0_ - wk.kin[airframe_].r));
+      for (int off : tyreOut_) {
+        row.values.push_back(o[off]);
+        if (tyreOut_.size() > 1) row.values.push_back(o[off + 1]);
+      }
+      for (size_t k = 0; k < strutOut_.size(); ++k)
+        for (int i = 0; i < strutOutputs_[k]; ++i) row.values.push_back(o[strutOut_[k] + i]);
+      for (int r : stopRows_) row.values.push_back(lambda[r] * rowsW.rows[r].Ji.template head<3>().norm());  // [N]
+      row.values.push_back(violation(active, rowsW));
+      rec_->samples.push_back(std::move(row));
+    }
+  }
+  // Rows on the dense output (outputTimes or outputInterval) rather than one per step.
+  bool denseRows() const { return !opt_.outputTimes.empty() || opt_.outputInterval > 0; }
+  // The time of output row k: outputTimes[k] (infinity past its end), or k DT.
+  double rowTime(long k) const {
+    if (opt_.outputTimes.empty()) return static_cast<double>(k) * opt_.outputInterval;
+    return k < static_cast<long>(opt_.outputTimes.size()) ? opt_.outputTimes[k] : std::numeric_limits<double>::infinity();
+  }
+  // Rows at the output times inside (t0, t1], each from the dense output with its multipliers solved
+  // on the observer's workspace (the contact mode is the step's). Double only.
+  void recordDense(const Model<S>& m, double t0, double t1, const State<S>& s, const DenseOutput<S>& d) {
+    for (;; ++nextRow_) {
+      const double t = rowTime(nextRow_);
+      if (t > t1 * (1 + 1e-12) || t > case_.duration * (1 + 1e-12)) break;
+      if (t <= t0) continue;
+      d.at(S(std::min(t, t1)), ytmp_);
+      lambdaTmp_ = s.lambda;
+      evaluate(m, ytmp_, s.active, lambdaTmp_, wo_, ydotTmp_);
+      forceOutputs(wo_);
+      record(t, wo_, lambdaTmp_, s.active, wo_);
+    }
+  }
+  double violation(const std::vector<char>& active, const Workspace<S>& w) const {
+    double v = 0;
+    for (int k = 0; k < m_.nRows; ++k) {
+      if (!active[k]) continue;
+      v = std::max(v, std::abs(value(w.rows[k].C)) / std::max(1e-12, value(w.rows[k].Ji.template head<3>().norm())));
+    }
+    return v;
+  }
+  void checkBottom(const State<S>& s) {
+    for (int r : bottomRows_)
+      if (s.active[r] && !F_.bottomed) {
+        F_.bottomed = true;
+        for (size_t k = 0; k < end_.sdot.size(); ++k) bottomSpeed_ = std::max(bottomSpeed_, value(end_.sdot[k]));
+      }
+    for (size_t k = 0; k < strutBottomed_.size(); ++k) {
+      const int stop = k < sc_.roles.bottomingStops.size() ? sc_.roles.bottomingStops[k] : -1;
+      if (stop >= 0 && s.active[m_.rowOffset[stop]]) strutBottomed_[k] = true;
+    }
+  }
+  double externalPotential(const Workspace<S>& w) const {
+    const Kins<S> K = w.kins();
+    double U = 0;
+    for (const auto& f : m_.forces) {
+      if (const auto* g = std::get_if<Gravity<S>>(&f.type)) U += value(g->stored(K));
+      if (const auto* c = std::get_if<ConstantForce<S>>(&f.type)) U += value(c->stored(K));
+    }
+    return U;
+  }
+  // Simpson's rule for integral(P dx) = integral(P xdot dt) over one step of length h.
+  static S simpson(const S& f0, const S& fm, const S& f1, const S& h) { return h / S(6.0) * (f0 + S(4) * fm + f1); }
+  // The part of this step's integral after time t (Simpson on [t, t1]).
+  S partialGear(const S& t, const S& t1, const DenseOutput<S>& d) {
+    Channels& a = scratch_;
+    channelsAt(t, d, a);
+    const S fa = a.Py * a.hdot;
+    channelsAt(S(0.5) * (t + t1), d, a);
+    const S fm = a.Py * a.hdot;
+    channelsAt(t1, d, a);
+    return simpson(fa, fm, a.Py * a.hdot, t1 - t);
+  }
+  S partialStrut(size_t k, const S& t, const S& t1, const DenseOutput<S>& d) {
+    Channels& a = scratch_;
+    channelsAt(t, d, a);
+    const S fa = a.Pa[k] * a.sdot[k];
+    channelsAt(S(0.5) * (t + t1), d, a);
+    const S fm = a.Pa[k] * a.sdot[k];
+    channelsAt(t1, d, a);
+    return simpson(fa, fm, a.Pa[k] * a.sdot[k], t1 - t);
+  }
+  // Updates the running maximum 'best' of a channel. If its rate goes from + to - inside the step, the
+  // maximum is located on the dense output (golden section on values). Returns true if the maximum
+  // moved; 'tFound' (optional) receives the time of an interior maximum (-1 if the end holds it).
+  template <class F>
+  bool refine(const S& rate0, const S& rate1, const S& t0, const S& t1, const DenseOutput<S>& d, F f, S& best, S* tBest,
+              const S& endValue, const S& tEnd, double* tFound = nullptr) {
+    S v = endValue, tv = tEnd;
+    double interior = -1;
+    if (value(rate0) > 0 && value(rate1) < 0) {
+      auto at = [&](double t) {
+        channelsAt(S(t), d, scratch_);
+        return value(f(scratch_));
+      };
+      const double gr = 0.5 * (std::sqrt(5.0) - 1);
+      const double T1 = value(t1);
+      double a = value(t0), b = T1;
+      double c = b - gr * (b - a), e = a + gr * (b - a);
+      double fc = at(c), fe = at(e);
+      for (int it = 0; it < 60 && b - a > 1e-13 * std::max(1.0, T1); ++it) {
+        if (fc > fe) {
+          b = e;
+          e = c;
+          fe = fc;
+          c = b - gr * (b - a);
+          fc = at(c);
+        } else {
+          a = c;
+          c = e;
+          fc = fe;
+          e = a + gr * (b - a);
+          fe = at(e);
+        }
+      }
+      const double tm = 0.5 * (a + b);
+      channelsAt(S(tm), d, scratch_);
+      const S vm = f(scratch_);
+      lastRefinedTime_ = tm;
+      lastRefinedValue_ = value(vm);
+      if (value(vm) > value(v)) {
+        v = vm;
+        tv = S(tm);
+        interior = tm;
+      }
+    }
+    if (value(v) > value(best)) {
+      best = v;
+      if (tBest) *tBest = tv;
+      if (tFound) *tFound = interior;
+      return true;
+    }
+    return false;
+  }
+
+  const Scene& sc_;
+  const Model<S>& m_;
+  const DropCase& case_;
+  const S V_, L_;            // the case's sink speed and lift ratio (design parameters, possibly)
+  const CaseOptions& opt_;
+  CaseResult* rec_;
+  Workspace<S> wo_;           // the observer's own: dense-output channels and output rows
+  int airframe_ = -1;
+  std::vector<int> tyreOut_, strutOut_, strutOutputs_, stopRows_, bottomRows_;
+  Vec3<S> r0_ = Vec3<S>::Zero();
+  VecX<S> ytmp_, ydotTmp_, lambdaTmp_;
+  long nextRow_ = 0;          // next dense output row (outputTimes, outputInterval)
+  Channels prev_, end_, mid_, after_, scratch_;
+  CaseFigures<S> F_;
+  double e0_ = 0, ek0_ = 0, uExt0_ = 0;
+  S workPy_ = S(0), workPyAtMax_ = S(0), reboundV_ = S(0);
+  std::vector<S> workPa_, workPaAtMax_;
+  double tHmax_ = 0;
+  double lastRefinedTime_ = 0, lastRefinedValue_ = 0;
+  double epsFriction_ = 0;
+  double bottomSpeed_ = -1;
+  std::vector<double> stickStart_;
+  std::vector<bool> moved_, strutBottomed_;
+  long steps_ = 0;
+};
+
+}  // namespace lg

@@ -1,0 +1,239 @@
+// Exact derivatives of drop-test metrics (sim/drop_gradient.cpp) against central finite differences of
+// the double runs, for each kind of parameter (orifice area, gas pressure and volume, polytropic
+// exponent, tyre stiffness, a mass, the sink speed, the lift ratio, a stop length) on the seed gear's
+// light, limit, reserve and free-drop cases and on the telescopic gear; an event whose time moves with
+// the design; the kink flags on designs built to sit on a kink; independence of the pass width.
+//
+// The reference: at dopri5 rtol 1e-10 both the Jet run and the differences approach the exact
+// sensitivities, but a difference of two adaptive runs now and then carries a jump of the step
+// sequence; the median of the central differences at relative steps 3e-3, 1e-3 and 3e-4 is immune
+// to one such outlier. Errors are relative to max(|derivative|, the derivative of an elasticity of 1e-3,
+// with the metric's typical size for one near 0), so that a metric that hardly depends on a parameter is
+// not judged on its noise.
+#include "scene_support.hpp"  // sim headers, then Catch (see there)
+
+#include <algorithm>
+#include <cstdio>
+
+#include "sim/drop_gradient.hpp"
+#include "sim/parameters.hpp"
+
+namespace {
+
+lg::Scene tightScene(toml::table doc) {
+  doc.insert_or_assign("solver", toml::table{{"integrator", "dopri5"}, {"rtol", 1e-10}, {"atol", 1e-12}});
+  return lgtest::build(doc);
+}
+
+std::vector<double> metricsAt(const lg::Scene& sc, const lg::DropCase& c, const lg::Parameter& p, double v) {
+  lg::Scene s = sc;
+  REQUIRE_FALSE(lg::applyParameters(s, {p}, {v}));
+  lg::DropCase d = c;  // a case parameter of this case moves its own field only
+  if (p.kind == lg::Parameter::Kind::Case && s.cases[p.index].name == c.name)
+    (p.key == "sink_speed" ? d.sinkSpeed : d.liftRatio) = v;
+  const lg::CaseMetrics m = lg::runCase(s, d).metrics;
+  REQUIRE(m.ok);
+  std::vector<double> f;
+  for (const auto& info : lg::gradientMetrics()) f.push_back(lg::metricValue(m, info.name));
+  return f;
+}
+
+// The median of central differences of every gradient metric at three steps ('scale' sets the step of a
+// parameter whose value is 0).
+std::vector<double> referenceDerivatives(const lg::Scene& sc, const lg::DropCase& c, const lg::Parameter& p, double scale) {
+  const double x = lg::parameterValue(sc, p), base = std::max(std::abs(x), scale);
+  std::vector<std::vector<double>> est;
+  for (double h : {3e-3, 1e-3, 3e-4}) {
+    const auto a = metricsAt(sc, c, p, x + h * base), b = metricsAt(sc, c, p, x - h * base);
+    std::vector<double> d(a.size());
+    for (size_t i = 0; i < a.size(); ++i) d[i] = (a[i] - b[i]) / (2 * h * base);
+    est.push_back(d);
+  }
+  std::vector<double> out(est[0].size());
+  for (size_t i = 0; i < out.size(); ++i) {
+    std::vector<double> v;
+    for (const auto& e : est) v.push_back(e[i]);
+    std::sort(v.begin(), v.end());
+    out[i] = v[1];
+  }
+  return out;
+}
+
+struct Tally {
+  double worst = 0, worstPeakTime = 0;
+  int compared = 0;
+};
+
+void compare(const std::string& label, const lg::Scene& sc, const lg::DropCase& c, const std::vector<std::string>& paths,
+             Tally& tally) {
+  std::vector<lg::Parameter> ps;
+  for (const auto& path : paths) ps.push_back(lg::resolveParameter(sc, path));
+  const lg::CaseGradient g = lg::caseGradient(sc, c, ps);
+  REQUIRE(g.ok);
+  for (size_t j = 0; j < ps.size(); ++j) {
+    const double x = lg::parameterValue(sc, ps[j]);
+    const double scale = ps[j].key == "lift_ratio" ? 1.0 : 0.0;
+    const auto fd = referenceDerivatives(sc, c, ps[j], scale);
+    for (size_t i = 0; i < g.metrics.size(); ++i) {
+      const auto& md = g.metrics[i];
+      if (std::isnan(md.value)) continue;  // a metric the scene has not (stroke_margin without a stop)
+      // A kink at this design (two humps, bottoming's onset, L = 1 for the rebound's derivative in L):
+      // one-sided, no central difference to compare with. The stick note speaks of the Coulomb limit, and
+      // the differences are the same regularised model's: compared.
+      const bool liftPlateau = md.note.find("lift equal to the weight") != std::string::npos;
+      const bool stickOnly = md.note.rfind("a strut sticks", 0) == 0;
+      if (!md.smooth && !stickOnly && !(liftPlateau && ps[j].key != "lift_ratio" &&
+                                        md.note.find("two maxima") == std::string::npos &&
+                                        md.note.find("bottoming") == std::string::npos))
+        continue;
+      const double floor = 1e-3 * std::max(std::abs(md.value), lg::findMetric(md.metric)->scale) / std::max(std::abs(x), scale);
+      const double err = std::abs(md.d[j] - fd[i]) / std::max({std::abs(fd[i]), floor, 1e-300});
+      INFO(label << ": d " << md.metric << " / d " << ps[j].path << " exact " << md.d[j] << " differences " << fd[i]);
+      CHECK(err <= (md.metric == "t_peak" ? 5e-4 : 1e-4));
+      (md.metric == "t_peak" ? tally.worstPeakTime : tally.worst) =
+          std::max(md.metric == "t_peak" ? tally.worstPeakTime : tally.worst, err);
+      ++tally.compared;
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("gradient: every metric against central differences, each parameter kind, four cases", "[gradient]") {
+  const lg::Scene sc = tightScene(lgtest::shippedDoc("data/seed_gear.toml"));
+  Tally tally;
+  const std::vector<std::string> model{"strut.f1", "strut.p01", "strut.Omega0", "strut.n", "tyre.K", "airframe.mass",
+                                       "bottoming.min_distance"};
+  for (const char* name : {"light", "limit", "reserve", "free-drop"}) {
+    std::vector<std::string> paths = model;
+    paths.push_back(std::string(name) + ".sink_speed");
+    if (std::string(name) != "free-drop") paths.push_back(std::string(name) + ".lift_ratio");  // L = 0: a bound
+    compare(std::string("seed ") + name, sc, lgtest::findCase(sc, name), paths, tally);
+  }
+  std::printf("gradient: %d derivatives of the seed gear within %.1e of the differences (t_peak %.1e)\n", tally.compared,
+              tally.worst, tally.worstPeakTime);
+}
+
+TEST_CASE("gradient: the telescopic gear against central differences", "[gradient]") {
+  const lg::Scene sc = tightScene(lgtest::shippedDoc("data/telescopic_gear.toml"));
+  Tally tally;
+  compare("telescopic limit", sc, lgtest::findCase(sc, "limit"),
+          {"shock.f1", "shock.p01", "tyre.K", "airframe.mass", "limit.sink_speed"}, tally);
+  std::printf("gradient: %d derivatives of the telescopic gear within %.1e (t_peak %.1e)\n", tally.compared, tally.worst,
+              tally.worstPeakTime);
+}
+
+namespace {
+// The interior local maxima of P_y(t) of a recorded run, in time order.
+std::vector<double> loadHumps(const lg::Scene& sc, const lg::DropCase& c) {
+  lg::CaseOptions o;
+  o.record = true;
+  const lg::CaseResult r = lg::runCase(sc, c, o);
+  const int col = r.column("P_y");
+  std::vector<double> humps;
+  for (size_t i = 1; i + 1 < r.samples.size(); ++i) {
+    const double a = r.samples[i - 1].values[col], b = r.samples[i].values[col], d = r.samples[i + 1].values[col];
+    if (b > a && b >= d && b > 1000) humps.push_back(b);
+  }
+  return humps;
+}
+lg::Scene withValue(const lg::Scene& sc, const std::string& path, double v) {
+  lg::Scene s = sc;
+  REQUIRE_FALSE(lg::applyParameters(s, {lg::resolveParameter(sc, path)}, {v}));
+  return s;
+}
+}  // namespace
+
+// An event whose time moves with the design: the reserve drop onto the bottoming stop (a plastic
+// impact). Were the event time's derivative dropped, the metrics after the impact would miss its
+// motion; they agree with the differences.
+TEST_CASE("gradient: through a plastic impact whose time moves with the design", "[gradient][events]") {
+  toml::table doc = lgtest::shippedDoc("data/seed_gear.toml");
+  lgtest::element(doc, "force", "strut").insert_or_assign("Omega0", 1.6e-3);
+  lgtest::element(doc, "force", "strut").insert_or_assign("p01", 1.0e6);
+  const lg::Scene sc = tightScene(doc);
+  lg::DropCase c = lgtest::findCase(sc, "reserve");
+  c.liftRatio = 0;
+  REQUIRE(lg::runCase(sc, c).metrics.bottomed);
+  Tally tally;
+  compare("bottoming reserve", sc, c, {"strut.f1", "strut.Omega0", "airframe.mass", "reserve.sink_speed"}, tally);
+  CHECK(tally.compared > 30);
+  std::printf("gradient: %d derivatives through the bottoming impact within %.1e (t_peak %.1e)\n", tally.compared,
+              tally.worst, tally.worstPeakTime);
+}
+
+TEST_CASE("gradient: the kinks are named, with the side computed", "[gradient][kinks]") {
+  const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/seed_gear.toml"));
+  const lg::Parameter f1 = lg::resolveParameter(sc, "strut.f1"), omega0 = lg::resolveParameter(sc, "strut.Omega0");
+  SECTION("a strut that sticks before a metric is reached") {
+    const lg::CaseGradient g = lg::caseGradient(sc, lgtest::findCase(sc, "limit"), {f1});
+    CHECK(g.find("peak_load")->smooth);  // reached at 0.059 s, before the strut comes to rest
+    CHECK_FALSE(g.find("stroke")->smooth);
+    CHECK(g.find("stroke")->note.rfind("a strut sticks from t = 0.19", 0) == 0);
+  }
+  SECTION("bottoming begins at the design") {
+    // The reserve drop's largest gas volume that keeps clear of the bottoming stop, by bisection.
+    double lo = 1.3e-3, hi = 1.8e-3;
+    REQUIRE_FALSE(lg::runCase(withValue(sc, "strut.Omega0", lo), lgtest::findCase(sc, "reserve")).metrics.bottomed);
+    REQUIRE(lg::runCase(withValue(sc, "strut.Omega0", hi), lgtest::findCase(sc, "reserve")).metrics.bottomed);
+    for (int i = 0; i < 40; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (lg::runCase(withValue(sc, "strut.Omega0", mid), lgtest::findCase(sc, "reserve")).metrics.bottomed ? hi : lo) = mid;
+    }
+    const lg::Scene edge = withValue(sc, "strut.Omega0", lo);
+    const lg::CaseGradient g = lg::caseGradient(edge, lgtest::findCase(edge, "reserve"), {omega0});
+    const auto* s = g.find("stroke");
+    INFO(s->note);
+    CHECK_FALSE(s->smooth);
+    CHECK(s->note.find("short of its bottoming stop: bottoming begins near this design; the derivative is the side that does "
+                       "not bottom") != std::string::npos);
+    CHECK_FALSE(g.find("peak_load")->smooth);
+  }
+  SECTION("two maxima of P_y of equal height") {
+    // The reserve drop's two humps (orifice first, gas spring later): the orifice area at which they are
+    // equal, by bisection on their difference.
+    const lg::DropCase& c = lgtest::findCase(sc, "reserve");
+    auto gap = [&](double p) {
+      const auto h = loadHumps(withValue(sc, "strut.f1", p), c);
+      REQUIRE(h.size() >= 2);
+      return h[0] - h[1];
+    };
+    double lo = 7e-5, hi = 1e-4;
+    REQUIRE(gap(lo) > 0);
+    REQUIRE(gap(hi) < 0);
+    for (int i = 0; i < 40; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (gap(mid) > 0 ? lo : hi) = mid;
+    }
+    const lg::Scene equal = withValue(sc, "strut.f1", lo);
+    const lg::CaseGradient g = lg::caseGradient(equal, lgtest::findCase(equal, "reserve"), {f1});
+    const auto* peak = g.find("peak_load");
+    INFO(peak->note);
+    CHECK_FALSE(peak->smooth);
+    CHECK(peak->note.rfind("two maxima of P_y within 0", 0) == 0);
+    CHECK_FALSE(g.find("t_peak")->smooth);
+    CHECK_FALSE(g.find("tyre_deflection")->smooth);  // one tyre: its largest deflection is the largest load
+    // away from the kink the same metric is smooth
+    CHECK(lg::caseGradient(sc, c, {f1}).find("peak_load")->smooth);
+  }
+}
+
+TEST_CASE("gradient: the derivatives do not depend on the pass width", "[gradient]") {
+  const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/seed_gear.toml"));
+  std::vector<lg::Parameter> ps;
+  for (const char* path : {"strut.f1", "strut.p01", "tyre.K", "limit.sink_speed", "airframe.mass"})
+    ps.push_back(lg::resolveParameter(sc, path));
+  const lg::DropCase& c = lgtest::findCase(sc, "limit");
+  const lg::CaseGradient g4 = lg::caseGradient(sc, c, ps, 4), g2 = lg::caseGradient(sc, c, ps, 2),
+                         g1 = lg::caseGradient(sc, c, ps, 1);
+  double worst = 0;
+  for (size_t i = 0; i < g4.metrics.size(); ++i)
+    for (size_t j = 0; j < ps.size(); ++j)
+      for (const auto* g : {&g2, &g1}) {
+        const double a = g4.metrics[i].d[j], b = g->metrics[i].d[j];
+        worst = std::max(worst, std::abs(a - b) / std::max(std::abs(a), 1e-300));
+        CHECK(g->metrics[i].value == g4.metrics[i].value);
+      }
+  std::printf("gradient: pass widths 1, 2, 4 agree to %.1e\n", worst);
+  CHECK(worst <= 1e-12);
+}
