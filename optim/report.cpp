@@ -415,26 +415,7 @@ EvaluationCache readHistory(const std::string& path, const Study& s, std::string
 
 std::string bestSceneText(const Study& s, const std::vector<double>& x, const std::string& outDir) {
   toml::table doc = designDocument(s, x);
-  // Relative table paths ("*_table" keys) resolve against the scene's directory: rewrite them so that
-  // they resolve from outDir.
-  for (const char* arr : {"force", "body", "joint", "stop"}) {
-    toml::array* a = doc[arr].as_array();
-    if (!a) continue;
-    for (auto& e : *a) {
-      toml::table* t = e.as_table();
-      if (!t) continue;
-      for (auto& [k, v] : *t) {
-        const std::string key(k.str());
-        if (key.size() < 6 || key.compare(key.size() - 6, 6, "_table") != 0 || !v.is_string()) continue;
-        fs::path p(*v.value<std::string>());
-        if (p.is_absolute()) continue;
-        std::error_code ec;
-        const fs::path abs = fs::absolute(fs::path(s.sceneDir) / p, ec);
-        const fs::path rel = fs::relative(abs, fs::absolute(outDir, ec), ec);
-        v.as_string()->get() = (ec || rel.empty()) ? abs.lexically_normal().string() : rel.string();
-      }
-    }
-  }
+  relocateTablePaths(doc, s.sceneDir, outDir);  // relative tables resolve from outDir
   std::ostringstream o;
   o << "# Best design of study '" << s.name << "' (" << s.file << "), written by optimize from " << s.sceneFile
     << ".\n# Variables:";

@@ -471,6 +471,28 @@ void parseSensitivity(const toml::table& doc, const std::string& file, Study& s)
 }  // namespace
 
 // ---- parsing ---------------------------------------------------------------------------------------
+void applySolverTable(const toml::table* t, const std::string& file, Scene& scene, const std::string& sceneFile,
+                      const std::string& sceneDir) {
+  if (!t) return;
+  TomlReader r(*t, file, "solver");
+  r.allowOnly({"integrator", "rtol", "atol", "step"});
+  toml::table& sceneSolver = *scene.doc.insert("solver", toml::table{}).first->second.as_table();
+  if (r.has("integrator")) {
+    const std::string name = r.string("integrator");
+    IntegratorKind kind;
+    if (!integratorFromName(name, kind)) r.fail("integrator", "value '" + name + "' must be one of " + integratorNames());
+    sceneSolver.insert_or_assign("integrator", name);
+  }
+  if (r.has("rtol")) {
+    const double rtol = r.positive("rtol");
+    sceneSolver.insert_or_assign("rtol", rtol);
+    if (!r.has("atol")) sceneSolver.insert_or_assign("atol", rtol * 1e-2);
+  }
+  if (r.has("atol")) sceneSolver.insert_or_assign("atol", r.positive("atol"));
+  if (r.has("step")) sceneSolver.insert_or_assign("step", r.positive("step"));
+  scene = buildScene(scene.doc, sceneFile, sceneDir);
+}
+
 Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir,
                  const std::vector<ParameterOverride>& sets) {
   const toml::table doc = parseToml(text, file);
@@ -501,25 +523,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
 
   // [solver]: the study's own integrator settings, written into the scene's [solver] so that every
   // design, the baseline and best.toml run with them (a fast, looser setting for long studies).
-  if (const toml::table* t = tableOf(doc, "solver", file)) {
-    TomlReader r(*t, file, "solver");
-    r.allowOnly({"integrator", "rtol", "atol", "step"});
-    toml::table& sceneSolver = *s.scene.doc.insert("solver", toml::table{}).first->second.as_table();
-    if (r.has("integrator")) {
-      const std::string name = r.string("integrator");
-      IntegratorKind kind;
-      if (!integratorFromName(name, kind)) r.fail("integrator", "value '" + name + "' must be one of " + integratorNames());
-      sceneSolver.insert_or_assign("integrator", name);
-    }
-    if (r.has("rtol")) {
-      const double rtol = r.positive("rtol");
-      sceneSolver.insert_or_assign("rtol", rtol);
-      if (!r.has("atol")) sceneSolver.insert_or_assign("atol", rtol * 1e-2);
-    }
-    if (r.has("atol")) sceneSolver.insert_or_assign("atol", r.positive("atol"));
-    if (r.has("step")) sceneSolver.insert_or_assign("step", r.positive("step"));
-    s.scene = buildScene(s.scene.doc, s.sceneFile, s.sceneDir);
-  }
+  applySolverTable(tableOf(doc, "solver", file), file, s.scene, s.sceneFile, s.sceneDir);
 
   parseCertificationTable(doc, file, s);
 

@@ -164,6 +164,12 @@ Study loadStudy(const std::string& path, const std::vector<ParameterOverride>& s
 Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir = ".",
                  const std::vector<ParameterOverride>& sets = {});
 
+// The [solver] table 't' of a study or calibration file (integrator, rtol, atol = rtol/100 unless given,
+// step; absent: nothing) written into the scene's own [solver], and the scene rebuilt with it: every
+// design and the written scenes (best.toml, calibrated.toml) run with those settings. Errors name 'file'.
+void applySolverTable(const toml::table* t, const std::string& file, Scene& scene, const std::string& sceneFile,
+                      const std::string& sceneDir);
+
 // True where NLopt handles inequality constraints itself (COBYLA, ISRES, AGS, AUGLAG family); the
 // other local algorithms run inside LN_AUGLAG, the global ones get an exact penalty (optimizer.hpp).
 bool nativeConstraints(const std::string& algorithm);

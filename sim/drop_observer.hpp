@@ -132,8 +132,8 @@ template <class S> class DropObserver {
     e0_ = value(e.total());
     ek0_ = value(e.kinetic);
     uExt0_ = externalPotential(w);
-    if (recording()) {
-      record(value(s.t), wo_, s.lambda, s.active, w);  // t = 0 in either output mode
+    if (recording() && (opt_.outputTimes.empty() || opt_.outputTimes[0] <= 0)) {
+      record(value(s.t), wo_, s.lambda, s.active, w);  // t = 0 in every output mode but a list without it
       nextRow_ = 1;
     }
     F_.peak_load = prev_.Py;
@@ -207,10 +207,10 @@ template <class S> class DropObserver {
     }
     F_.constraint_violation_max = std::max(F_.constraint_violation_max, viol);
     checkBottom(s);
-    if (recording() && opt_.outputInterval > 0) recordUniform(m, value(t0), value(t1), s, d);
+    if (recording() && denseRows()) recordDense(m, value(t0), value(t1), s, d);
     at(s.t, s.y, after_);  // after any jump at t1: the next step's start
     for (size_t k = 0; k < F_.struts.size(); ++k) F_.struts[k].force_max = maxByValue(F_.struts[k].force_max, after_.Pa[k]);
-    if (recording() && opt_.outputInterval <= 0) record(value(s.t), wo_, s.lambda, s.active, w);
+    if (recording() && !denseRows()) record(value(s.t), wo_, s.lambda, s.active, w);
     std::swap(prev_, after_);
     ++steps_;
   }
@@ -416,12 +416,18 @@ template <class S> class DropObserver {
       rec_->samples.push_back(std::move(row));
     }
   }
+  // Rows on the dense output (outputTimes or outputInterval) rather than one per step.
+  bool denseRows() const { return !opt_.outputTimes.empty() || opt_.outputInterval > 0; }
+  // The time of output row k: outputTimes[k] (infinity past its end), or k DT.
+  double rowTime(long k) const {
+    if (opt_.outputTimes.empty()) return static_cast<double>(k) * opt_.outputInterval;
+    return k < static_cast<long>(opt_.outputTimes.size()) ? opt_.outputTimes[k] : std::numeric_limits<double>::infinity();
+  }
   // Rows at the output times inside (t0, t1], each from the dense output with its multipliers solved
   // on the observer's workspace (the contact mode is the step's). Double only.
-  void recordUniform(const Model<S>& m, double t0, double t1, const State<S>& s, const DenseOutput<S>& d) {
-    const double dt = opt_.outputInterval;
+  void recordDense(const Model<S>& m, double t0, double t1, const State<S>& s, const DenseOutput<S>& d) {
     for (;; ++nextRow_) {
-      const double t = static_cast<double>(nextRow_) * dt;
+      const double t = rowTime(nextRow_);
       if (t > t1 * (1 + 1e-12) || t > case_.duration * (1 + 1e-12)) break;
       if (t <= t0) continue;
       d.at(S(std::min(t, t1)), ytmp_);
@@ -544,7 +550,7 @@ template <class S> class DropObserver {
   std::vector<int> tyreOut_, strutOut_, strutOutputs_, stopRows_, bottomRows_;
   Vec3<S> r0_ = Vec3<S>::Zero();
   VecX<S> ytmp_, ydotTmp_, lambdaTmp_;
-  long nextRow_ = 0;          // next uniform output row (outputInterval > 0)
+  long nextRow_ = 0;          // next dense output row (outputTimes, outputInterval)
   Channels prev_, end_, mid_, after_, scratch_;
   CaseFigures<S> F_;
   double e0_ = 0, ek0_ = 0, uExt0_ = 0;

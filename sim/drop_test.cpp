@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 namespace lg {
 
@@ -123,6 +124,12 @@ CaseMetrics caseMetrics(const CaseFigures<double>& F, const Scene& scene, const 
 
 CaseResult runCase(const Scene& scene, const DropCase& c, const CaseOptions& opt) {
   const auto start = std::chrono::steady_clock::now();
+  for (size_t k = 0; k < opt.outputTimes.size(); ++k) {
+    const double t = opt.outputTimes[k];
+    if (!(t >= 0 && t <= c.duration) || (k > 0 && !(t > opt.outputTimes[k - 1])))
+      throw std::invalid_argument("output time " + shortNumber(t) + " s (row " + std::to_string(k) +
+                                  "): the times must increase strictly within [0, duration = " + shortNumber(c.duration) + " s]");
+  }
   CaseResult res;
   const Model<double> m = caseModel(scene, c);
   State<double> s = caseState(scene, m, c);

@@ -95,6 +95,10 @@ struct Sample {
 struct CaseOptions {
   bool record = false;         // keep time histories
   double outputInterval = 0;   // [s] > 0: rows at t = 0, DT, 2 DT, ... from the dense output; 0: one per step
+  // [s] rows at exactly these times from the dense output (a measurement's samples), strictly increasing
+  // in [0, duration] (runCase throws std::invalid_argument otherwise); t = 0 only when listed. Replaces
+  // outputInterval when not empty. The run itself is unchanged.
+  std::vector<double> outputTimes;
   std::function<bool()> stop;  // polled each step (Ctrl-C); null = never
 };
 

@@ -108,4 +108,26 @@ std::vector<DropCase> caseMatrix(const std::vector<double>& sinkSpeeds, const st
   return out;
 }
 
+void relocateTablePaths(toml::table& doc, const std::string& sceneDir, const std::string& outDir) {
+  namespace fs = std::filesystem;
+  for (const char* arr : {"force", "body", "joint", "stop"}) {
+    toml::array* a = doc[arr].as_array();
+    if (!a) continue;
+    for (auto& e : *a) {
+      toml::table* t = e.as_table();
+      if (!t) continue;
+      for (auto& [k, v] : *t) {
+        const std::string key(k.str());
+        if (key.size() < 6 || key.compare(key.size() - 6, 6, "_table") != 0 || !v.is_string()) continue;
+        fs::path p(*v.value<std::string>());
+        if (p.is_absolute()) continue;
+        std::error_code ec;
+        const fs::path abs = fs::absolute(fs::path(sceneDir) / p, ec);
+        const fs::path rel = fs::relative(abs, fs::absolute(outDir, ec), ec);
+        v.as_string()->get() = (ec || rel.empty()) ? abs.lexically_normal().string() : rel.string();
+      }
+    }
+  }
+}
+
 }  // namespace lg

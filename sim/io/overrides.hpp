@@ -23,6 +23,11 @@ ParameterOverride parseOverride(const std::string& text);
 // rebuilds the scene: its own rules apply to the new values.
 Scene applyOverrides(const Scene& scene, const std::vector<ParameterOverride>& sets);
 
+// Prepares a scene document for writing into 'outDir' (best.toml, calibrated.toml): relative table
+// paths ("*_table" keys), which resolve against the scene's folder 'sceneDir', are rewritten to resolve
+// from outDir (absolute where no relative path leads there).
+void relocateTablePaths(toml::table& doc, const std::string& sceneDir, const std::string& outDir);
+
 // A list of numbers "a,b,c" or a range "start:step:stop" (stop included when the steps land on it
 // within 1e-9 of a step); every value must satisfy 'positive' (> 0) or be >= 0. 'flag' names it in errors.
 std::vector<double> parseValueList(const std::string& text, const std::string& flag, bool positive);
