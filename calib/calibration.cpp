@@ -307,9 +307,17 @@ void parseFit(const toml::table& doc, const std::string& file, Calibration& c) {
   const toml::table* t = tableOf(doc, "fit", file);
   if (!t) return;
   TomlReader r(*t, file, "fit");
-  r.allowOnly({"loss", "loss_scale", "max_iterations", "jacobian_step", "shift_step", "function_tolerance",
+  r.allowOnly({"jacobian", "loss", "loss_scale", "max_iterations", "jacobian_step", "shift_step", "function_tolerance",
                "parameter_tolerance", "gradient_tolerance", "identifiability"});
   FitSettings& f = c.fit;
+  const std::string jacobian = r.string("jacobian", "exact");
+  if (jacobian != "exact" && jacobian != "central")
+    r.fail("jacobian", "value '" + jacobian + "' must be \"exact\" (forward mode through the drop test) or \"central\" "
+                       "(central differences with jacobian_step and shift_step)");
+  f.exactJacobian = jacobian == "exact";
+  for (const char* key : {"jacobian_step", "shift_step"})
+    if (f.exactJacobian && r.has(key))
+      r.fail(key, "a step of the central differences, for jacobian = \"central\"; the exact Jacobian takes none");
   const std::string loss = r.string("loss", "none");
   bool found = false;
   for (Loss l : {Loss::None, Loss::Huber, Loss::Cauchy, Loss::SoftL1, Loss::Arctan})

@@ -11,7 +11,7 @@
 //                   weights = { P_y = 1e-3 } | sigma = { P_y = 500.0, s = 2e-4 }, t_shift = "fit" | 0.0123,
 //                   t_shift_range = [-0.01, 0.01]
 //   [[parameter]]   path = "strut.f1", lower = 3e-5, upper = 1.6e-4, initial = 7e-5
-//   [fit]           loss = "none" | "huber" | "cauchy" | "soft_l1" | "arctan", loss_scale = 1, max_iterations,
+//   [fit]           jacobian = "exact" | "central", loss = "none" | "huber" | "cauchy" | "soft_l1" | "arctan", loss_scale = 1, max_iterations,
 //                   jacobian_step, shift_step, function_tolerance, parameter_tolerance, gradient_tolerance,
 //                   identifiability
 //
@@ -80,6 +80,7 @@ enum class Loss { None, Huber, Cauchy, SoftL1, Arctan };
 const char* lossName(Loss l);
 
 struct FitSettings {
+  bool exactJacobian = true;          // "jacobian": "exact" (forward mode, exact_jacobian.hpp) or "central"
   Loss loss = Loss::None;
   double lossScale = 1;               // [-] in units of the weighted residual
   int maxIterations = 50;

@@ -1,6 +1,8 @@
 // The Ceres fit of a calibration, its covariance and identifiability (fit.hpp).
 #include "calib/fit.hpp"
 
+#include "calib/exact_jacobian.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -340,7 +342,10 @@ bool stopped(const FitOptions& o) { return o.stop && o.stop(); }
 FitResult runFit(const Calibration& c, const FitOptions& o) {
   FitResult r;
   const CentralDifferences differences(c, o.threads, o.stop);
-  const ResidualJacobian& rj = o.jacobian ? *o.jacobian : differences;  // the one place the Jacobian comes from
+  const ExactDerivatives exact(c, o.threads, o.stop);
+  // The one place the Jacobian comes from: the caller's, else the file's choice.
+  const ResidualJacobian& rj = o.jacobian ? *o.jacobian : c.fit.exactJacobian ? static_cast<const ResidualJacobian&>(exact)
+                                                                               : differences;
   r.jacobianSource = rj.source();
   describeUnknowns(c, r);
   r.start = initialPoint(c);

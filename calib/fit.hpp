@@ -66,8 +66,8 @@ struct FitResult {
 
 struct FitOptions {
   int threads = 1;
-  // Where the residuals' Jacobian comes from (residuals.hpp); null: CentralDifferences on 'threads'. The
-  // exact Jacobian (automatic derivatives through the drop test) plugs in here.
+  // Where the residuals' Jacobian comes from (residuals.hpp); null: the calibration's choice
+  // (FitSettings::exactJacobian: ExactDerivatives, else CentralDifferences) on 'threads'.
   const ResidualJacobian* jacobian = nullptr;
   std::function<bool()> stop;                              // Ctrl-C: the fit stops, interrupted = true
   std::function<void(int iteration, double cost)> progress;  // after each Ceres iteration

@@ -24,26 +24,33 @@ std::optional<std::string> designScene(const Calibration& c, const std::vector<d
   return applyParameters(out, ps, x);
 }
 
+SampleRows sampleRows(const Measurement& m, double shift, double duration) {
+  // Output rows: t = 0 for the samples up to touchdown, then one per later sample (the last clamped to
+  // the case's end against round-off).
+  SampleRows out;
+  out.row.assign(m.t.size(), 0);
+  for (std::size_t i = 0; i < m.t.size(); ++i)
+    if (m.t[i] - shift <= 0) {
+      out.times.assign(1, 0.0);
+      break;
+    }
+  for (std::size_t i = 0; i < m.t.size(); ++i) {
+    const double ts = std::min(m.t[i] - shift, duration);
+    if (ts <= 0) continue;
+    if (out.times.empty() || ts > out.times.back()) out.times.push_back(ts);
+    out.row[i] = out.times.size() - 1;
+  }
+  return out;
+}
+
 Simulated simulateMeasurement(const Calibration& c, std::size_t k, const Scene& design, double shift,
                               const std::function<bool()>& stop) {
   const Measurement& m = c.measurements[k];
   const DropCase dc = m.sceneCase >= 0 ? design.cases[static_cast<std::size_t>(m.sceneCase)] : m.dropCase;
   Simulated out;
-  // Output rows: t = 0 for the samples up to touchdown, then one per later sample (the last clamped to
-  // the case's end against round-off).
-  std::vector<double> times;
-  std::vector<std::size_t> row(m.t.size());
-  for (std::size_t i = 0; i < m.t.size(); ++i)
-    if (m.t[i] - shift <= 0) {
-      times.assign(1, 0.0);
-      break;
-    }
-  for (std::size_t i = 0; i < m.t.size(); ++i) {
-    const double ts = std::min(m.t[i] - shift, dc.duration);
-    if (ts <= 0) continue;
-    if (times.empty() || ts > times.back()) times.push_back(ts);
-    row[i] = times.size() - 1;
-  }
+  const SampleRows rows = sampleRows(m, shift, dc.duration);
+  const std::vector<double>& times = rows.times;
+  const std::vector<std::size_t>& row = rows.row;
   CaseOptions opt;
   opt.record = true;
   opt.outputTimes = times;

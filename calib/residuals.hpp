@@ -11,9 +11,8 @@
 // physical parameters (relative step h of each parameter's scale) and in t_shift (step dt), one-sided
 // second-order differences where a central step would leave the bounds; its 1 + 2 (p + shift) runs per
 // measurement go over the threads, each into its own slot, so the result is the same for any thread
-// count. An exact Jacobian (automatic derivatives through the drop test, ceres::Jet) is another
-// ResidualJacobian with the same evaluate(), given to the fit as FitOptions::jacobian (fit.hpp):
-// nothing else in the fit changes (its secondJacobian() returns false: no error to estimate).
+// count. ExactDerivatives (exact_jacobian.hpp, the default) differentiates the drop test itself
+// (ceres::Jet through the run); the fit takes either (FitSettings::jacobian, or FitOptions::jacobian).
 #pragma once
 
 #include <functional>
@@ -39,6 +38,15 @@ Point initialPoint(const Calibration& c);
 // The scene of a design: the parameters set to x as data and the scene's rules checked (sim/parameters.hpp).
 // Returns why the scene rejects it, or nothing.
 std::optional<std::string> designScene(const Calibration& c, const std::vector<double>& x, Scene& out);
+
+// The simulation's output rows for a measurement at a t_shift [s]: times (t = 0 first when a sample
+// precedes touchdown, then one per later sample, the last clamped to the case's end) and, per sample,
+// the index of its row.
+struct SampleRows {
+  std::vector<double> times;
+  std::vector<std::size_t> row;
+};
+SampleRows sampleRows(const Measurement& m, double shift, double duration);
 
 // The simulated channels of a measurement at its samples: y[channel][sample], every channel (fitted or
 // compared only).

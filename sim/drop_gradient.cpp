@@ -85,12 +85,11 @@ template <class S> double metricTime(const CaseFigures<S>& F, const std::string&
   return F.tHMax;  // h_max, efficiency, energy_absorbed
 }
 
-template <int N>
-bool runPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params, size_t first, CaseGradient& g,
-             Kinks& kinks) {
-  using J = ceres::Jet<double, N>;
-  Model<J> m = scene.model.template cast<J>();
-  J V(c.sinkSpeed), L(c.liftRatio);
+// The model and state of a pass: parameters [first, first + N) seeded in components 0 .. N-1.
+template <class J>
+void seedPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params, size_t first, Model<J>& m,
+              J& V, J& L) {
+  constexpr int N = J::DIMENSION;
   for (size_t j = first; j < std::min(params.size(), first + N); ++j) {
     const Parameter& p = params[j];
     const double x = parameterValue(scene, p);
@@ -98,6 +97,15 @@ bool runPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>
     if (p.kind != Parameter::Kind::Case) setModelParameter(m, p, seeded);
     else if (scene.cases[p.index].name == c.name) (p.key == "sink_speed" ? V : L) = seeded;
   }
+}
+
+template <int N>
+bool runPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params, size_t first, CaseGradient& g,
+             Kinks& kinks) {
+  using J = ceres::Jet<double, N>;
+  Model<J> m = scene.model.template cast<J>();
+  J V(c.sinkSpeed), L(c.liftRatio);
+  seedPass(scene, c, params, first, m, V, L);
   applyCase(scene, m, c, L);
   State<J> s = caseState(scene, m, V);
   Workspace<J> w(m);
@@ -141,7 +149,76 @@ bool runPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>
   return true;
 }
 
+// One pass of caseHistoryGradient: parameters [first, first + N), the time in component 'timeSlot' (-1:
+// not in this pass).
+template <int N>
+bool historyPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params, size_t first, int timeSlot,
+                 const std::vector<double>& times, HistoryGradient& g) {
+  using J = ceres::Jet<double, N>;
+  Model<J> m = scene.model.template cast<J>();
+  J V(c.sinkSpeed), L(c.liftRatio);
+  seedPass(scene, c, params, first, m, V, L);
+  applyCase(scene, m, c, L);
+  State<J> s = caseState(scene, m, V);
+  Workspace<J> w(m);
+  CaseOptions opt;
+  opt.outputTimes = times;
+  DropObserver<J> obs(scene, m, c, V, L, opt, nullptr);
+  std::vector<std::vector<J>> rows;
+  rows.reserve(times.size());
+  obs.recordRows(&rows, timeSlot);
+  const RunStatus st = simulate(m, s, w, c.duration, obs);
+  if (!st.ok || rows.size() != times.size()) {
+    g.ok = false;
+    g.message = st.ok ? "the run ended before the last output time" : st.message;
+    return false;
+  }
+  const bool fill = g.value.empty();
+  if (fill) {
+    g.value.assign(rows.size(), {});
+    g.d.assign(rows.size(), {});
+  }
+  for (size_t r = 0; r < rows.size(); ++r) {
+    const size_t nc = rows[r].size();
+    if (fill) {
+      g.value[r].resize(nc);
+      g.d[r].assign(nc, std::vector<double>(params.size(), 0.0));
+    }
+    for (size_t k = 0; k < nc; ++k) {
+      const J& x = rows[r][k];
+      if (fill) g.value[r][k] = x.a;
+      for (size_t j = first; j < std::min(params.size(), first + N); ++j) g.d[r][k][j] = x.v[static_cast<int>(j - first)];
+      if (timeSlot >= 0) g.rate[r][k] = x.v[timeSlot];
+    }
+  }
+  return true;
+}
+
 }  // namespace
+
+HistoryGradient caseHistoryGradient(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params,
+                                    const std::vector<double>& times, bool rates, int width) {
+  HistoryGradient g;
+  g.times = times;
+  const size_t ncols = historyColumns(scene).size();
+  if (rates) g.rate.assign(times.size(), std::vector<double>(ncols, 0.0));
+  // Components: the parameters, then the time (with rates); at least one pass for the values.
+  const size_t n = std::max<size_t>(params.size() + (rates ? 1 : 0), 1);
+  for (size_t first = 0; first < n;) {
+    const size_t left = n - first;
+    const int w = std::min(width, left >= 4 ? 4 : left >= 2 ? (left == 2 ? 2 : 4) : 1);
+    const int timeSlot = rates && params.size() >= first && params.size() < first + static_cast<size_t>(w)
+                             ? static_cast<int>(params.size() - first)
+                             : -1;
+    bool ok = false;
+    if (w == 1) ok = historyPass<1>(scene, c, params, first, timeSlot, times, g);
+    else if (w == 2) ok = historyPass<2>(scene, c, params, first, timeSlot, times, g);
+    else ok = historyPass<kJetWidth>(scene, c, params, first, timeSlot, times, g);
+    if (!ok) break;
+    first += static_cast<size_t>(w);
+  }
+  return g;
+}
 
 const MetricDerivative* CaseGradient::find(const std::string& metric) const {
   for (const auto& m : metrics)

@@ -61,6 +61,24 @@ std::string parameterUnit(const Scene& scene, const Parameter& p);
 CaseGradient caseGradient(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params,
                           int width = kJetWidth);
 
+// The time histories of a case at given times with their derivatives (the exact Jacobian of a
+// calibration): value[r][c] of column c (historyColumns(scene)) at times[r], d[r][c][j] its derivative
+// with respect to params[j] at that fixed time, and with 'rates' rate[r][c], its derivative in time
+// along the integrator's dense output (0 in a row at t = 0, which precedes the first step). The rows
+// are those of CaseOptions::outputTimes (strictly increasing in [0, duration]); a row at an event's
+// time is its left limit, and its derivatives are the left side's (the state jumps there). Passes of
+// up to kJetWidth components as in caseGradient, the rates taking one component.
+struct HistoryGradient {
+  bool ok = true;
+  std::string message;                          // why the run failed
+  std::vector<double> times;                    // [s]
+  std::vector<std::vector<double>> value;       // [row][column]
+  std::vector<std::vector<std::vector<double>>> d;  // [row][column][parameter]
+  std::vector<std::vector<double>> rate;        // [row][column] [unit/s] (with rates)
+};
+HistoryGradient caseHistoryGradient(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params,
+                                    const std::vector<double>& times, bool rates, int width = kJetWidth);
+
 // Throws InputError(where, 0, path, rule) for a parameter that has no derivative (a case duration).
 void checkGradientParameter(const Parameter& p, const std::string& where);
 

@@ -122,11 +122,12 @@ template <class S> class DropObserver {
     ytmp_ = VecX<S>::Zero(m.ny());
     ydotTmp_ = VecX<S>::Zero(m.ny());
     lambdaTmp_ = VecX<S>::Zero(m.nRows);
-    if (recording()) rec_->columns = historyColumns(sc);
+    if (rec_ && opt_.record) rec_->columns = historyColumns(sc);
   }
 
   void onStart(const Model<S>& m, const State<S>& s, Workspace<S>& w) {
     if (airframe_ >= 0) r0_ = w.kin[airframe_].r;
+    stepActive_ = s.active;
     at(s.t, s.y, prev_);
     EnergyReport<S> e = energy(m, s, w);
     e0_ = value(e.total());
@@ -211,8 +212,20 @@ template <class S> class DropObserver {
     at(s.t, s.y, after_);  // after any jump at t1: the next step's start
     for (size_t k = 0; k < F_.struts.size(); ++k) F_.struts[k].force_max = maxByValue(F_.struts[k].force_max, after_.Pa[k]);
     if (recording() && !denseRows()) record(value(s.t), wo_, s.lambda, s.active, w);
+    stepActive_ = s.active;  // after any event at t1: the next step's mode
     std::swap(prev_, after_);
     ++steps_;
+  }
+
+  // Rows of the time histories in the scalar S (with ceres::Jet: their derivatives), at opt.outputTimes or
+  // every opt.outputInterval: each row holds the columns of historyColumns(scene). 'timeSlot' >= 0 (Jet
+  // only) seeds the row's time in that derivative component, which then holds each column's rate in
+  // time along the dense output (d/dt at fixed parameters); the row at t = 0 (before any step) has rate
+  // 0 there. A row whose time is an event's is the left limit (before the event's jump). Set before the
+  // run; the double run's rows go to the CaseResult as before.
+  void recordRows(std::vector<std::vector<S>>* rows, int timeSlot = -1) {
+    rows_ = rows;
+    timeSlot_ = timeSlot;
   }
 
   bool stopRequested() const { return opt_.stop && (steps_ % 64 == 0) && opt_.stop(); }
@@ -274,8 +287,8 @@ template <class S> class DropObserver {
  private:
   static constexpr bool kDouble = std::is_same_v<S, double>;
   bool recording() const {
-    if constexpr (kDouble) return rec_ && opt_.record;
-    else return false;
+    if constexpr (kDouble) return (rec_ && opt_.record) || rows_;
+    else return rows_ != nullptr;
   }
   // S_max of strut k from the model (a design may move L0 or the stop): L0 - L of its bottoming stop.
   S strokeLimit(size_t k) const {
@@ -393,27 +406,28 @@ template <class S> class DropObserver {
 
   // One row of the time histories from a workspace whose poses and force outputs are current, the
   // multipliers, and the workspace holding the constraint rows at that state (the columns of
-  // historyColumns, in order). Double only.
+  // historyColumns, in order): to the CaseResult (double) or to the rows of recordRows.
   void record(double t, const Workspace<S>& wk, const VecX<S>& lambda, const std::vector<char>& active,
               const Workspace<S>& rowsW) {
+    std::vector<S> row;
+    const S* o = wk.outputs.data();
+    S Py = S(0);
+    for (int off : tyreOut_) Py += o[off + 1];
+    if (!tyreOut_.empty()) row.push_back(Py);
+    if (airframe_ >= 0) row.push_back(sc_.up.template cast<S>().dot(r0_ - wk.kin[airframe_].r));
+    for (int off : tyreOut_) {
+      row.push_back(o[off]);
+      if (tyreOut_.size() > 1) row.push_back(o[off + 1]);
+    }
+    for (size_t k = 0; k < strutOut_.size(); ++k)
+      for (int i = 0; i < strutOutputs_[k]; ++i) row.push_back(o[strutOut_[k] + i]);
+    for (int r : stopRows_) row.push_back(lambda[r] * rowsW.rows[r].Ji.template head<3>().norm());  // [N]
+    row.push_back(S(violation(active, rowsW)));
+    if (rows_) rows_->push_back(row);
     if constexpr (kDouble) {
-      Sample row;
-      row.t = t;
-      row.values.reserve(rec_->columns.size());
-      const double* o = wk.outputs.data();
-      double Py = 0;
-      for (int off : tyreOut_) Py += o[off + 1];
-      if (!tyreOut_.empty()) row.values.push_back(Py);
-      if (airframe_ >= 0) row.values.push_back(sc_.up.dot(r0_ - wk.kin[airframe_].r));
-      for (int off : tyreOut_) {
-        row.values.push_back(o[off]);
-        if (tyreOut_.size() > 1) row.values.push_back(o[off + 1]);
-      }
-      for (size_t k = 0; k < strutOut_.size(); ++k)
-        for (int i = 0; i < strutOutputs_[k]; ++i) row.values.push_back(o[strutOut_[k] + i]);
-      for (int r : stopRows_) row.values.push_back(lambda[r] * rowsW.rows[r].Ji.template head<3>().norm());  // [N]
-      row.values.push_back(violation(active, rowsW));
-      rec_->samples.push_back(std::move(row));
+      if (rec_ && opt_.record) rec_->samples.push_back(Sample{t, std::move(row)});
+    } else {
+      (void)t;
     }
   }
   // Rows on the dense output (outputTimes or outputInterval) rather than one per step.
@@ -424,17 +438,21 @@ template <class S> class DropObserver {
     return k < static_cast<long>(opt_.outputTimes.size()) ? opt_.outputTimes[k] : std::numeric_limits<double>::infinity();
   }
   // Rows at the output times inside (t0, t1], each from the dense output with its multipliers solved
-  // on the observer's workspace (the contact mode is the step's). Double only.
+  // on the observer's workspace in the step's contact mode (the one it started with: 's' holds the mode
+  // after any event at t1, so a row at t1 is the left limit).
   void recordDense(const Model<S>& m, double t0, double t1, const State<S>& s, const DenseOutput<S>& d) {
     for (;; ++nextRow_) {
       const double t = rowTime(nextRow_);
       if (t > t1 * (1 + 1e-12) || t > case_.duration * (1 + 1e-12)) break;
       if (t <= t0) continue;
-      d.at(S(std::min(t, t1)), ytmp_);
+      S tr(std::min(t, t1));
+      if constexpr (!kDouble)
+        if (timeSlot_ >= 0) tr.v[timeSlot_] = 1.0;  // the rates in time along the dense output
+      d.at(tr, ytmp_);
       lambdaTmp_ = s.lambda;
-      evaluate(m, ytmp_, s.active, lambdaTmp_, wo_, ydotTmp_);
+      evaluate(m, ytmp_, stepActive_, lambdaTmp_, wo_, ydotTmp_);
       forceOutputs(wo_);
-      record(t, wo_, lambdaTmp_, s.active, wo_);
+      record(t, wo_, lambdaTmp_, stepActive_, wo_);
     }
   }
   double violation(const std::vector<char>& active, const Workspace<S>& w) const {
@@ -551,6 +569,9 @@ template <class S> class DropObserver {
   Vec3<S> r0_ = Vec3<S>::Zero();
   VecX<S> ytmp_, ydotTmp_, lambdaTmp_;
   long nextRow_ = 0;          // next dense output row (outputTimes, outputInterval)
+  std::vector<std::vector<S>>* rows_ = nullptr;  // recordRows
+  std::vector<char> stepActive_;  // the contact mode of the step in progress (rows on the dense output)
+  int timeSlot_ = -1;
   Channels prev_, end_, mid_, after_, scratch_;
   CaseFigures<S> F_;
   double e0_ = 0, ek0_ = 0, uExt0_ = 0;

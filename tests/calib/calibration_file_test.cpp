@@ -52,7 +52,7 @@ void expectError(const Files& f, const Expected& e) {
 TEST_CASE("calibration files: a valid file as the fit sees it", "[calib][file]") {
   Files f;
   f.write(kSigma + "\nt_shift = \"fit\"\nt_shift_range = [-0.002, 0.004]\n",
-          kF1 + parameter("tyre.K", 5e5, 1.2e6) + "initial = 9e5\n[fit]\nloss = \"huber\"\nloss_scale = 2.0\njacobian_step = 1e-3\n");
+          kF1 + parameter("tyre.K", 5e5, 1.2e6) + "initial = 9e5\n[fit]\njacobian = \"central\"\nloss = \"huber\"\nloss_scale = 2.0\njacobian_step = 1e-3\n");
   const lg::calib::Calibration c = lg::calib::loadCalibration(f.dir / "c.cfg");
   CHECK(c.name == "c");
   REQUIRE(c.parameters.size() == 2);
@@ -135,8 +135,10 @@ TEST_CASE("calibration files: mistakes in the calibration file name its line and
       {kSigma + "\ncase = \"nope\"", kF1, {"cfg", 9, "measurement[0].case", "not a case of the scene"}},
       {kSigma + "\nmasses = { nobody = 3.0 }", kF1, {"cfg", 9, "measurement[0].masses", "'nobody' is not a body"}},
       {kSigma, kF1 + "[fit]\nloss = \"l2\"\n", {"cfg", 14, "fit.loss", "must be \"none\", \"huber\""}},
-      {kSigma, kF1 + "[fit]\njacobian_step = 0.5\n", {"cfg", 14, "fit.jacobian_step", "must be <= 0.1"}},
+      {kSigma, kF1 + "[fit]\njacobian = \"central\"\njacobian_step = 0.5\n", {"cfg", 15, "fit.jacobian_step", "must be <= 0.1"}},
       {kSigma, kF1 + "[fit]\nloss_scale = 2.0\n", {"cfg", 14, "fit.loss_scale", "only with a robust loss"}},
+      {kSigma, kF1 + "[fit]\njacobian = \"numeric\"\n", {"cfg", 14, "fit.jacobian", "must be \"exact\""}},
+      {kSigma, kF1 + "[fit]\nshift_step = 1e-6\n", {"cfg", 14, "fit.shift_step", "for jacobian = \"central\""}},
       {kSigma, kF1 + "[solver]\nintegrator = \"leapfrog\"\n", {"cfg", 14, "solver.integrator", "must be one of"}},
   };
   for (const Case& c : cases) {

@@ -237,3 +237,165 @@ TEST_CASE("gradient: the derivatives do not depend on the pass width", "[gradien
   std::printf("gradient: pass widths 1, 2, 4 agree to %.1e\n", worst);
   CHECK(worst <= 1e-12);
 }
+
+// ---- time histories at fixed times (the calibration's exact Jacobian) ----------------------------
+namespace {
+
+// The recorded rows of a double run at 'times' with parameter p at v.
+std::vector<std::vector<double>> rowsAt(const lg::Scene& sc, const lg::DropCase& c, const lg::Parameter& p, double v,
+                                        const std::vector<double>& times) {
+  lg::Scene s = sc;
+  REQUIRE_FALSE(lg::applyParameters(s, {p}, {v}));
+  lg::DropCase d = c;
+  if (p.kind == lg::Parameter::Kind::Case && s.cases[p.index].name == c.name)
+    (p.key == "sink_speed" ? d.sinkSpeed : d.liftRatio) = v;
+  lg::CaseOptions o;
+  o.record = true;
+  o.outputTimes = times;
+  const lg::CaseResult r = lg::runCase(s, d, o);
+  REQUIRE(r.metrics.ok);
+  REQUIRE(r.samples.size() == times.size());
+  std::vector<std::vector<double>> out;
+  for (const auto& row : r.samples) out.push_back(row.values);
+  return out;
+}
+
+}  // namespace
+
+// Every column at 61 fixed times (t = 0 included) against the median of central differences of the
+// double runs' rows at relative steps 1e-3, 3e-4 and 1e-4, each error relative to the column's largest derivative over the
+// run (a value near a zero crossing is not judged on its own size); the rates in time against the
+// model's own velocities (s against the strut's s_dot output, a state velocity, not a difference).
+TEST_CASE("history gradient: time histories at fixed times against central differences, rates against s_dot",
+          "[gradient][history]") {
+  const lg::Scene sc = tightScene(lgtest::shippedDoc("data/seed_gear.toml"));
+  const lg::DropCase& c = lgtest::findCase(sc, "limit");
+  std::vector<double> times;
+  for (int k = 0; k <= 60; ++k) times.push_back(0.005 * k);
+  std::vector<lg::Parameter> ps;
+  for (const char* path : {"strut.f1", "strut.p01", "tyre.K", "limit.sink_speed", "airframe.mass"})
+    ps.push_back(lg::resolveParameter(sc, path));
+  const lg::HistoryGradient g = lg::caseHistoryGradient(sc, c, ps, times, true);
+  REQUIRE(g.ok);
+  REQUIRE(g.value.size() == times.size());
+  const auto cols = lg::historyColumns(sc);
+  const std::vector<std::vector<double>> base = rowsAt(sc, c, ps[0], lg::parameterValue(sc, ps[0]), times);
+  double worstValue = 0, worst = 0;  // values relative to the column's largest over the run
+  for (size_t k = 0; k + 1 < cols.size(); ++k) {  // the last column, the constraint violation, has no derivative
+    double top = 0;
+    for (size_t r = 0; r < times.size(); ++r) top = std::max(top, std::abs(base[r][k]));
+    for (size_t r = 0; r < times.size(); ++r)
+      if (top > 0) worstValue = std::max(worstValue, std::abs(g.value[r][k] - base[r][k]) / top);
+  }
+  int compared = 0;
+  for (size_t j = 0; j < ps.size(); ++j) {
+    const double x = lg::parameterValue(sc, ps[j]);
+    std::vector<std::vector<std::vector<double>>> est;  // [step][row][column]
+    for (double h : {1e-3, 3e-4, 1e-4}) {  // a history's second derivatives are larger than a metric's
+      const auto a = rowsAt(sc, c, ps[j], x + h * x, times), b = rowsAt(sc, c, ps[j], x - h * x, times);
+      std::vector<std::vector<double>> d(times.size(), std::vector<double>(cols.size()));
+      for (size_t r = 0; r < times.size(); ++r)
+        for (size_t k = 0; k < cols.size(); ++k) d[r][k] = (a[r][k] - b[r][k]) / (2 * h * x);
+      est.push_back(d);
+    }
+    for (size_t k = 0; k + 1 < cols.size(); ++k) {
+      // The column's scale: its largest derivative over the run, at least an elasticity of 1e-6 of its
+      // largest value (a column the parameter does not reach is judged against that).
+      double big = 0, top = 0;
+      for (size_t r = 0; r < times.size(); ++r) {
+        big = std::max(big, std::abs(g.d[r][k][j]));
+        top = std::max(top, std::abs(g.value[r][k]));
+      }
+      big = std::max(big, 1e-6 * top / std::abs(x));
+      if (big == 0) continue;  // a column that is 0 throughout (a stop that never acts)
+      for (size_t r = 0; r < times.size(); ++r) {
+        // Central differences converge as h^2 (the histories' curvature near the stick at s' = 0 is
+        // large): Richardson's extrapolation of the two smaller steps, unless the median of the three
+        // is closer (a jump of the step sequence in one of them).
+        std::vector<double> v{est[0][r][k], est[1][r][k], est[2][r][k]};
+        const double richardson = est[2][r][k] + (est[2][r][k] - est[1][r][k]) / 8;
+        std::sort(v.begin(), v.end());
+        const double ref = std::abs(g.d[r][k][j] - richardson) < std::abs(g.d[r][k][j] - v[1]) ? richardson : v[1];
+        const double err = std::abs(g.d[r][k][j] - ref) / big;
+        INFO(cols[k].name << " at t = " << times[r] << " d/d " << ps[j].path << ": exact " << g.d[r][k][j] << ", differences "
+                          << ref << " (" << est[0][r][k] << ", " << est[1][r][k] << ", " << est[2][r][k] << ")");
+        CHECK(err < 2e-6);
+        worst = std::max(worst, err);
+        ++compared;
+      }
+    }
+  }
+  // Rates: ds/dt along the dense output against the strut's s_dot, relative to the largest |s_dot|.
+  int s = -1, sdot = -1;
+  for (size_t k = 0; k < cols.size(); ++k) {
+    if (cols[k].name == "s") s = static_cast<int>(k);
+    if (cols[k].name == "s_dot") sdot = static_cast<int>(k);
+  }
+  REQUIRE(s >= 0);
+  REQUIRE(sdot >= 0);
+  double worstRate = 0, vmax = 0;
+  for (size_t r = 1; r < times.size(); ++r) vmax = std::max(vmax, std::abs(g.value[r][sdot]));
+  for (size_t r = 1; r < times.size(); ++r)
+    worstRate = std::max(worstRate, std::abs(g.rate[r][s] - g.value[r][sdot]) / vmax);
+  CHECK(g.rate[0][s] == 0);  // the row at t = 0 precedes the first step
+  CHECK(worstRate < 1e-8);
+  std::printf("history gradient: values to %.1e of the plain run, %d derivatives within %.1e of the differences, ds/dt "
+              "within %.1e of s_dot\n", worstValue, compared, worst, worstRate);
+  CHECK(worstValue < 5e-12);
+}
+
+// An output time exactly on the plastic impact onto the bottoming stop: the row is the left limit (before
+// the jump), and so are its derivatives. The stroke there shows the difference: on the right side s
+// stays at S_max (derivative 0 in f1), on the left s(t_e) = S_max - s'(t_e-) dt_e (its derivative
+// -s'(t_e-) dt_e/df1, not 0). The reference is the one-sided difference with the step that moves the
+// impact later (the perturbed runs are still before it at t_e), extrapolated to second order.
+TEST_CASE("history gradient: an output time on an impact takes the left side, not the jump", "[gradient][history][events]") {
+  toml::table doc = lgtest::shippedDoc("data/seed_gear.toml");
+  lgtest::element(doc, "force", "strut").insert_or_assign("Omega0", 1.6e-3);
+  lgtest::element(doc, "force", "strut").insert_or_assign("p01", 1.0e6);
+  const lg::Scene sc = tightScene(doc);
+  lg::DropCase c = lgtest::findCase(sc, "reserve");
+  c.liftRatio = 0;
+  // The impact's time: the first step row with the stop's force.
+  lg::CaseOptions o;
+  o.record = true;
+  const lg::CaseResult run = lg::runCase(sc, c, o);
+  const int fb = run.column("F_bottoming"), s = run.column("s"), sdot = run.column("s_dot");
+  REQUIRE(fb >= 0);
+  double te = -1;
+  for (const auto& row : run.samples)
+    if (row.values[fb] != 0) {
+      te = row.t;
+      break;
+    }
+  REQUIRE(te > 0);
+  const std::vector<double> times{0.5 * te, te};
+  const lg::Parameter f1 = lg::resolveParameter(sc, "strut.f1");
+  const lg::HistoryGradient g = lg::caseHistoryGradient(sc, c, {f1}, times, true);
+  REQUIRE(g.ok);
+  const double x = lg::parameterValue(sc, f1);
+  // The impact's time moves with f1: find the direction that delays it.
+  auto impactTime = [&](double v) {
+    lg::Scene s2 = sc;
+    REQUIRE_FALSE(lg::applyParameters(s2, {f1}, {v}));
+    const lg::CaseResult r = lg::runCase(s2, c, o);
+    for (const auto& row : r.samples)
+      if (row.values[fb] != 0) return row.t;
+    return -1.0;
+  };
+  const double h = 1e-4 * x;
+  const double dir = impactTime(x + h) > te ? 1.0 : -1.0;
+  REQUIRE(impactTime(x + dir * h) > te);
+  REQUIRE(impactTime(x + 2 * dir * h) > te);
+  const double y0 = rowsAt(sc, c, f1, x, times)[1][s], y1 = rowsAt(sc, c, f1, x + dir * h, times)[1][s],
+               y2 = rowsAt(sc, c, f1, x + 2 * dir * h, times)[1][s];
+  const double left = dir * (-3 * y0 + 4 * y1 - y2) / (2 * h);  // second-order one-sided
+  const double rateLeft = g.value[1][sdot];
+  std::printf("history gradient: on the impact at t = %.6f s, ds/df1 exact %.8g, left-side differences %.8g (%.1e; s' "
+              "before the jump %.4g m/s, s at the row %.9f, the right side's derivative 0)\n", te, g.d[1][s][0], left,
+              std::abs(g.d[1][s][0] - left) / std::abs(left), rateLeft, g.value[1][s]);
+  CHECK(rateLeft > 0.1);  // the row is before the jump: the strut still moves
+  CHECK(std::abs(g.d[1][s][0]) > 10);  // not the right side's 0
+  CHECK(g.d[1][s][0] == Approx(left).epsilon(1e-6));
+  CHECK(g.rate[1][s] == Approx(rateLeft).epsilon(1e-6));
+}

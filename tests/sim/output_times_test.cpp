@@ -105,3 +105,50 @@ TEST_CASE("output times: a list that does not increase within [0, duration] is r
   o.outputTimes = {0.1, std::numeric_limits<double>::quiet_NaN()};
   CHECK_THROWS_AS(runWith(o), std::invalid_argument);
 }
+
+// A row inside a step that ends with an event takes the step's contact mode, not the one the event
+// leaves: the extension stop holds the strut (its force > 0) at every row before its release and at none
+// after; the bottoming stop carries no force before the impact. (Rows once took the mode after the
+// step's event: those of the last step before the release showed F_extension = 0 while the stop held.)
+TEST_CASE("output times: a row before an event in the same step has the step's contact mode", "[drop_test][output][events]") {
+  auto check = [](const lg::Scene& sc, const lg::DropCase& c, const std::string& column, bool heldFirst) {
+    lg::CaseOptions steps;
+    steps.record = true;
+    const lg::CaseResult per = lg::runCase(sc, c, steps);
+    const int col = per.column(column);
+    REQUIRE(col >= 0);
+    // The event: the first step end where the stop's force switches (released or engaged).
+    double te = -1;
+    for (size_t k = 1; k < per.samples.size() && te < 0; ++k)
+      if ((per.samples[k].values[col] != 0) != heldFirst) te = per.samples[k].t;
+    REQUIRE(te > 0);
+    lg::CaseOptions dense;
+    dense.record = true;
+    for (int k = 1; k <= 400; ++k) dense.outputTimes.push_back(te * (k / 400.0) * 1.2);
+    const lg::CaseResult r = lg::runCase(sc, c, dense);
+    REQUIRE(r.samples.size() == dense.outputTimes.size());
+    int before = 0, after = 0;
+    for (const auto& row : r.samples) {
+      const bool held = row.values[col] != 0;
+      if (row.t < te) {
+        CHECK(held == heldFirst);
+        ++before;
+      } else if (row.t > te) {
+        CHECK(held != heldFirst);
+        ++after;
+      }
+    }
+    CHECK(before > 300);
+    CHECK(after > 50);
+    std::printf("output times: %s %s at t = %.6f s; %d rows before, %d after, each in its step's mode\n", column.c_str(),
+                heldFirst ? "released" : "engaged", te, before, after);
+  };
+  check(seedScene(), lgtest::findCase(seedScene(), "limit"), "F_extension", true);
+  toml::table doc = lgtest::shippedDoc("data/seed_gear.toml");
+  lgtest::element(doc, "force", "strut").insert_or_assign("Omega0", 1.6e-3);
+  lgtest::element(doc, "force", "strut").insert_or_assign("p01", 1.0e6);
+  const lg::Scene bottoming = lgtest::build(doc);
+  lg::DropCase c = lgtest::findCase(bottoming, "reserve");
+  c.liftRatio = 0;
+  check(bottoming, c, "F_bottoming", false);
+}
