@@ -89,9 +89,9 @@ template <class S> class DropObserver {
   struct Channels {
     S t = S(0), Py = S(0), PyDot = S(0), h = S(0), hdot = S(0);
     std::vector<S> s, sdot, Pa;        // per strut
-    std::vector<S> delta, ddelta, Pt;  // per tyre
+    std::vector<S> delta, ddelta, Pt, dPt;  // per tyre
     Channels(size_t struts = 0, size_t tyres = 0)
-        : s(struts), sdot(struts), Pa(struts), delta(tyres), ddelta(tyres), Pt(tyres) {}
+        : s(struts), sdot(struts), Pa(struts), delta(tyres), ddelta(tyres), Pt(tyres), dPt(tyres) {}
   };
 
   // 'record' (double only) receives the time histories when opt.record is set.
@@ -104,7 +104,11 @@ template <class S> class DropObserver {
       const auto& st = std::get<DistanceStop<S>>(m.constraints[ci].type);
       if (!st.noFarther) bottomRows_.push_back(m.rowOffset[ci]);
     }
-    for (int f : sc.roles.tyres) tyreOut_.push_back(m.outputOffset[f]);
+    for (int f : sc.roles.tyres) {
+      tyreOut_.push_back(m.outputOffset[f]);
+      dampedTyre_.push_back(std::get<Tyre<S>>(m.forces[f].type).damped);
+      if (dampedTyre_.back()) rateFromDense_ = true;
+    }
     for (int f : sc.roles.struts) {
       strutOut_.push_back(m.outputOffset[f]);
       strutOutputs_.push_back(static_cast<int>(m.forces[f].outputNames().size()));
@@ -158,6 +162,7 @@ template <class S> class DropObserver {
     const S t0 = prev_.t, t1 = s.t;
     channelsAt(t1, d, end_);
     channelsAt(S(0.5) * (t0 + t1), d, mid_);
+    if (rateFromDense_) denseRates(t0, t1, d);
     const S h = t1 - t0;
     workPy_ += simpson(prev_.Py * prev_.hdot, mid_.Py * mid_.hdot, end_.Py * end_.hdot, h);
     // Peak P_y where its rate (the sum of the tyres' P_t') goes from + to -.
@@ -172,8 +177,9 @@ template <class S> class DropObserver {
       auto& T = F_.tyres[k];
       refine(prev_.ddelta[k], end_.ddelta[k], t0, t1, d, [k](const Channels& c) { return c.delta[k]; }, T.deflection_max,
              nullptr, end_.delta[k], t1);
-      refine(prev_.ddelta[k], end_.ddelta[k], t0, t1, d, [k](const Channels& c) { return c.Pt[k]; }, T.load_max, nullptr,
-             end_.Pt[k], t1);
+      // (a damped tyre's load peaks before its deflection: its own rate)
+      refine(dampedTyre_[k] ? prev_.dPt[k] : prev_.ddelta[k], dampedTyre_[k] ? end_.dPt[k] : end_.ddelta[k], t0, t1, d,
+             [k](const Channels& c) { return c.Pt[k]; }, T.load_max, nullptr, end_.Pt[k], t1);
     }
     for (size_t k = 0; k < F_.struts.size(); ++k) {
       auto& St = F_.struts[k];
@@ -307,6 +313,7 @@ template <class S> class DropObserver {
       c.delta[k] = o[0];
       c.Pt[k] = o[1];
       c.ddelta[k] = o[2];
+      c.dPt[k] = o[3];
       c.Py += o[1];
       c.PyDot += o[3];
     }
@@ -337,6 +344,22 @@ template <class S> class DropObserver {
   void channelsAt(const S& t, const DenseOutput<S>& d, Channels& c) {
     d.at(t, ytmp_);
     at(t, ytmp_, c);
+  }
+
+  // A damped tyre's load rate holds c delta'', which its outputs cannot know (no accelerations there): with
+  // one, the rates of P_y and of each damped tyre's P_t at the step's ends are one-sided differences on
+  // the step's dense output, over 1e-6 of the step (their truncation, P'' tau / 2, and their round-off
+  // are far below the rates that matter: only their signs are used, to bracket the peaks).
+  void denseRates(const S& t0, const S& t1, const DenseOutput<S>& d) {
+    const S tau(1e-6 * (value(t1) - value(t0)));
+    channelsAt(t0 + tau, d, scratch_);
+    prev_.PyDot = (scratch_.Py - prev_.Py) / tau;
+    for (size_t k = 0; k < dampedTyre_.size(); ++k)
+      if (dampedTyre_[k]) prev_.dPt[k] = (scratch_.Pt[k] - prev_.Pt[k]) / tau;
+    channelsAt(t1 - tau, d, scratch_);
+    end_.PyDot = (end_.Py - scratch_.Py) / tau;
+    for (size_t k = 0; k < dampedTyre_.size(); ++k)
+      if (dampedTyre_[k]) end_.dPt[k] = (end_.Pt[k] - scratch_.Pt[k]) / tau;
   }
 
   // The time of the peak load moves with the design: dt*/dp = -(dP'/dp) / P'' at t* (Jet only). P' and
@@ -566,6 +589,8 @@ template <class S> class DropObserver {
   Workspace<S> wo_;           // the observer's own: dense-output channels and output rows
   int airframe_ = -1;
   std::vector<int> tyreOut_, strutOut_, strutOutputs_, stopRows_, bottomRows_;
+  std::vector<bool> dampedTyre_;  // per tyre: its load rate is taken on the dense output (denseRates)
+  bool rateFromDense_ = false;
   Vec3<S> r0_ = Vec3<S>::Zero();
   VecX<S> ytmp_, ydotTmp_, lambdaTmp_;
   long nextRow_ = 0;          // next dense output row (outputTimes, outputInterval)

@@ -399,7 +399,7 @@ template <class S> class Integrator {
   bool stepDopri(double h, double& hNext, RunStatus& st) {
     const Settings& cfg = m_.settings;
     auto& k = w_.stages;
-    const int nErr = m_.nx() + m_.nv();  // the dissipated-energy states are not error-controlled
+    const int nErr = m_.nErr();  // the dissipated-energy states are not error-controlled (but those asked for)
     k[0] = w_.ydot;
     for (int attempt = 0; attempt < 60; ++attempt) {
       w_.y0 = s_.y;
@@ -534,7 +534,7 @@ template <class S> class Integrator {
   bool stepRosenbrock(const RosenbrockTableau& tab, double h, double& hNext, RunStatus& st) {
     const Settings& cfg = m_.settings;
     auto& k = w_.stages;  // k[0] = f(y_n), k[1..s] = U_1..U_s, k[6] = f(y_n+1)
-    const int nErr = m_.nx() + m_.nv();
+    const int nErr = m_.nErr();
     k[0] = w_.ydot;
     w_.U0 = w_.U;  // the damping terms at y_n (the last evaluation was at s.y)
     w_.damping0 = w_.damping;

@@ -136,9 +136,27 @@ class Checker {
   }
 
   std::optional<SceneProblem> tyre(int f, const Tyre<double>& t) const {
-    for (const auto& [key, v] : {std::pair<const char*, double>{"radius", t.radius}, {"K", t.K}, {"delta_max", t.deltaMax}})
+    for (const auto& [key, v] : {std::pair<const char*, double>{"radius", t.radius}, {"delta_max", t.deltaMax}})
       if (auto p = positive(f, key, v)) return p;
+    if (t.law != TyreLaw::Table)
+      if (auto p = positive(f, "K", t.K)) return p;
     if (!(t.alpha >= 0)) return problem("force", f, "alpha", "value " + num(t.alpha) + " must be >= 0");
+    if (t.law == TyreLaw::Power && !(t.exponent >= 1))
+      return problem("force", f, "exponent", "value " + num(t.exponent) + " must be >= 1 (a tyre stiffens as it deflects)");
+    if (t.law == TyreLaw::Table && t.curve->xMax() < t.deltaMax - 1e-12)
+      return problem("force", f, "load_table", "table ends at deflection " + num(t.curve->xMax()) + " m, before delta_max = " +
+                                                    num(t.deltaMax) + " m: it must cover the tyre's allowed deflection");
+    if (t.damped) {
+      if (!(t.c >= 0)) return problem("force", f, "c", "value " + num(t.c) + " must be >= 0");
+      if (!(t.dampingExponent >= 0))
+        return problem("force", f, "damping_exponent", "value " + num(t.dampingExponent) + " must be >= 0");
+    }
+    if (t.longitudinal) {
+      if (!(t.muX > 0 && t.muX <= 1.5))
+        return problem("force", f, "mu_x", "value " + num(t.muX) + " must be > 0 and <= 1.5 (a tyre's friction coefficient)");
+      if (!(t.slipRatio > 0 && t.slipRatio < 1))
+        return problem("force", f, "slip_ratio", "value " + num(t.slipRatio) + " must be > 0 and < 1 (a slip ratio)");
+    }
     const double clearance = t.normal.dot(w_.kin[t.body].point(t.rho)) - t.groundHeight;  // wheel centre above the ground
     if (t.radius - clearance > 1e-6)
       return problem("force", f, "radius", "the tyre is pressed " + num(t.radius - clearance) + " m into the ground at touchdown (radius " +

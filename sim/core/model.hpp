@@ -46,12 +46,14 @@ template <class S> struct Model {
   std::vector<int> rowOffset;     // first row of each constraint
   std::vector<int> dissipationOffset, eventOffset, outputOffset, dampingOffset;  // per force element
   int nRows = 0, nDissipation = 0, nForceEvents = 0, nOutputs = 0, nDamping = 0;
+  int nErrorChannels = 0;         // the first dissipation channels, error-controlled like x and V
   std::vector<std::string> outputNames;  // "<element>.<channel>"
 
   int nBodies() const { return static_cast<int>(bodies.size()); }
   int nx() const { return 7 * nBodies(); }
   int nv() const { return 6 * nBodies(); }
   int ny() const { return nx() + nv() + nDissipation; }
+  int nErr() const { return nx() + nv() + nErrorChannels; }  // the error-controlled part of y
 
   void finalize() {
     rowInfo.clear();
@@ -67,14 +69,26 @@ template <class S> struct Model {
     outputOffset.clear();
     dampingOffset.clear();
     outputNames.clear();
-    nDissipation = nForceEvents = nOutputs = nDamping = 0;
+    nDissipation = nForceEvents = nOutputs = nDamping = nErrorChannels = 0;
+    // The error-controlled dissipation channels come first in z (the integrators control y up to
+    // nx + nv + nErrorChannels), the others after them, each element's channels together.
+    dissipationOffset.assign(forces.size(), 0);
+    for (size_t f = 0; f < forces.size(); ++f)
+      if (forces[f].dissipationErrorControlled()) {
+        dissipationOffset[f] = nErrorChannels;
+        nErrorChannels += forces[f].dissipationChannels();
+      }
+    nDissipation = nErrorChannels;
+    for (size_t f = 0; f < forces.size(); ++f)
+      if (!forces[f].dissipationErrorControlled()) {
+        dissipationOffset[f] = nDissipation;
+        nDissipation += forces[f].dissipationChannels();
+      }
     for (const auto& f : forces) {
       dampingOffset.push_back(nDamping);
       nDamping += f.dampingTerms();
-      dissipationOffset.push_back(nDissipation);
       eventOffset.push_back(nForceEvents);
       outputOffset.push_back(nOutputs);
-      nDissipation += f.dissipationChannels();
       nForceEvents += f.eventCount();
       for (const auto& n : f.outputNames()) outputNames.push_back(f.name + "." + n);
       nOutputs += static_cast<int>(f.outputNames().size());

@@ -1,6 +1,9 @@
 // The closed set of force elements, dispatched with std::variant. Each returns its forces, the rate
 // of the energy it dissipates, the energy it stores, event functions and named outputs, so that every
-// run can close its energy balance.
+// run can close its energy balance. How many dissipation channels, damping terms and event functions an
+// element has is its type's constant (kDissipation, kDamping, kEvents), or, for an element whose optional
+// parts a scene may leave out (a tyre without damping has no damping channel), what its instance says
+// (dissipationChannels(), dampingTerms(), eventCount()): what a scene does not declare costs nothing.
 #pragma once
 
 #include <string>
@@ -24,9 +27,41 @@ template <class S> struct ForceElement {
   bool isLift = false;      // a ConstantForce whose magnitude the drop case sets (liftRatio * G * g)
   S liftRatio = S(0);       // for a lift element: the current ratio L
 
-  int dissipationChannels() const { return std::visit([](const auto& f) { return f.kDissipation; }, type); }
-  int dampingTerms() const { return std::visit([](const auto& f) { return f.kDamping; }, type); }
-  int eventCount() const { return std::visit([](const auto& f) { return f.kEvents; }, type); }
+  int dissipationChannels() const {
+    return std::visit(
+        [](const auto& f) {
+          if constexpr (requires { f.dissipationChannels(); }) return f.dissipationChannels();
+          else return f.kDissipation;
+        },
+        type);
+  }
+  int dampingTerms() const {
+    return std::visit(
+        [](const auto& f) {
+          if constexpr (requires { f.dampingTerms(); }) return f.dampingTerms();
+          else return f.kDamping;
+        },
+        type);
+  }
+  // Whether the integrators control the error of its dissipated energies like that of the positions and
+  // velocities: an element whose dissipation rate has kinks of its own (a tyre's damping that lets go)
+  // needs its steps to resolve them; the strut's and the spring-damper's are left out as they always were.
+  bool dissipationErrorControlled() const {
+    return std::visit(
+        [](const auto& f) {
+          if constexpr (requires { f.dissipationErrorControlled(); }) return f.dissipationErrorControlled();
+          else return false;
+        },
+        type);
+  }
+  int eventCount() const {
+    return std::visit(
+        [](const auto& f) {
+          if constexpr (requires { f.eventCount(); }) return f.eventCount();
+          else return f.kEvents;
+        },
+        type);
+  }
   std::vector<std::string> outputNames() const {
     return std::visit([](const auto& f) { return f.outputNames(); }, type);
   }

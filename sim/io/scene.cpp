@@ -43,15 +43,15 @@ struct Pose {
   Mat3<double> R = Mat3<double>::Identity();
 };
 
-// Reads a two-column CSV table (header "stroke,area" or any two names) through fast-cpp-csv-parser.
-std::shared_ptr<const Table1D> readTable(const std::string& path, const TomlReader& r, const std::string& key) {
-  std::vector<double> x, y;
+// Reads the two columns 'cx', 'cy' of a CSV table with a header through fast-cpp-csv-parser.
+void readColumns(const std::string& path, const TomlReader& r, const std::string& key, const char* cx, const char* cy,
+                 std::vector<double>& x, std::vector<double>& y) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     r.fail(key, "cannot read table '" + path + "': " + (std::filesystem::exists(path, ec) ? "not a regular file" : "no such file"));
   try {
     io::CSVReader<2, io::trim_chars<' ', '\t'>, io::no_quote_escape<','>, io::throw_on_overflow, io::single_and_empty_line_comment<'#'>> in(path);
-    in.read_header(io::ignore_no_column, "stroke", "area");
+    in.read_header(io::ignore_no_column, cx, cy);
     double a, b;
     while (in.read_row(a, b)) {
       x.push_back(a);
@@ -60,6 +60,19 @@ std::shared_ptr<const Table1D> readTable(const std::string& path, const TomlRead
   } catch (const std::exception& e) {
     r.fail(key, "cannot read table '" + path + "': " + e.what());
   }
+}
+
+// A path of the scene relative to its folder.
+std::string scenePath(const TomlReader& r, const std::string& key, const std::string& baseDir) {
+  std::filesystem::path tp(r.string(key));
+  if (tp.is_relative()) tp = std::filesystem::path(baseDir) / tp;
+  return tp.string();
+}
+
+// Reads a two-column CSV table (header "stroke,area" or any two names) through fast-cpp-csv-parser.
+std::shared_ptr<const Table1D> readTable(const std::string& path, const TomlReader& r, const std::string& key) {
+  std::vector<double> x, y;
+  readColumns(path, r, key, "stroke", "area", x, y);
   if (x.size() < 4) r.fail(key, "table '" + path + "' needs at least 4 rows of (stroke, area)");
   const double dx = (x.back() - x.front()) / double(x.size() - 1);
   if (!(dx > 0)) r.fail(key, "table '" + path + "': stroke must increase");
@@ -69,6 +82,29 @@ std::shared_ptr<const Table1D> readTable(const std::string& path, const TomlRead
     if (!(y[i] > 0)) r.fail(key, "table '" + path + "': area " + fmt(y[i]) + " at row " + std::to_string(i + 2) + " must be > 0");
   }
   return std::make_shared<Table1D>(std::move(x), std::move(y), path);
+}
+
+// A tyre's load-deflection curve: CSV "deflection,load" [m, N], uniformly spaced from deflection 0 with
+// load 0, the load rising.
+std::shared_ptr<const CurveTable> readCurve(const std::string& path, const TomlReader& r, const std::string& key) {
+  std::vector<double> x, y;
+  readColumns(path, r, key, "deflection", "load", x, y);
+  if (x.size() < 4) r.fail(key, "table '" + path + "' needs at least 4 rows of (deflection, load)");
+  const double dx = (x.back() - x.front()) / double(x.size() - 1);
+  if (!(dx > 0)) r.fail(key, "table '" + path + "': deflection must increase");
+  if (x.front() != 0.0 || y.front() != 0.0)
+    r.fail(key, "table '" + path + "': the first row must be deflection 0 with load 0 (got " + fmt(x.front()) + ", " +
+                    fmt(y.front()) + "): the tyre touches the ground unloaded");
+  for (size_t i = 0; i < x.size(); ++i) {
+    if (!std::isfinite(x[i]) || !std::isfinite(y[i]))
+      r.fail(key, "table '" + path + "': row " + std::to_string(i + 2) + " must hold finite numbers");
+    if (std::abs(x[i] - (x.front() + dx * double(i))) > 1e-9 * std::max(1.0, std::abs(x.back())))
+      r.fail(key, "table '" + path + "': deflection must be uniformly spaced (row " + std::to_string(i + 2) + ")");
+    if (i > 0 && !(y[i] > y[i - 1]))
+      r.fail(key, "table '" + path + "': load " + fmt(y[i]) + " N at row " + std::to_string(i + 2) +
+                      " must be larger than the row before's " + fmt(y[i - 1]) + " N (a tyre's load rises with its deflection)");
+  }
+  return std::make_shared<CurveTable>(std::move(x), std::move(y), path);
 }
 
 // The joints' rows must be independent at touchdown: a joint whose row is a combination of earlier
@@ -353,7 +389,8 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       f.type = s;
       sc.roles.struts.push_back(static_cast<int>(m.forces.size()));
     } else if (type == "tyre") {
-      r.allowOnly({"name", "type", "body", "point", "radius", "K", "delta_max", "alpha", "ground_normal", "ground_height"});
+      r.allowOnly({"name", "type", "body", "point", "radius", "K", "delta_max", "alpha", "ground_normal", "ground_height",
+                   "law", "exponent", "load_table", "c", "damping_exponent", "mu_x", "slip_ratio", "forward"});
       Tyre<double> t;
       t.body = bodyRef(r, "body", false);
       const Vec3<double> centre = r.vec3("point", poses[t.body].r);
@@ -361,9 +398,57 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       t.normal = r.unitVec3("ground_normal", Vec3<double>(0, 1, 0));
       t.groundHeight = r.number("ground_height", 0.0);
       t.radius = r.positive("radius");
-      t.K = r.positive("K");
+      // The load law and the keys it takes (a key of another law is named, never ignored).
+      const std::string law = r.string("law", "polynomial");
+      auto notFor = [&](const char* key, const char* uses) {
+        if (r.has(key)) r.fail(key, "not a parameter of law = \"" + law + "\" (it uses " + uses + ")");
+      };
+      if (law == "polynomial") {
+        t.law = TyreLaw::Polynomial;
+        notFor("exponent", "K, delta_max, alpha");
+        notFor("load_table", "K, delta_max, alpha");
+      } else if (law == "power") {
+        t.law = TyreLaw::Power;
+        notFor("alpha", "K, delta_max, exponent");
+        notFor("load_table", "K, delta_max, exponent");
+      } else if (law == "table") {
+        t.law = TyreLaw::Table;
+        notFor("K", "load_table, delta_max");
+        notFor("alpha", "load_table, delta_max");
+        notFor("exponent", "load_table, delta_max");
+      } else {
+        r.fail("law", "value '" + law + "' must be \"polynomial\", \"power\" or \"table\"");
+      }
+      t.K = t.law == TyreLaw::Table ? 0.0 : r.positive("K");
       t.deltaMax = r.positive("delta_max");
       t.alpha = r.nonNegative("alpha", 0.0);
+      if (t.law == TyreLaw::Power) {
+        t.exponent = r.positive("exponent");
+        if (!(t.exponent >= 1)) r.fail("exponent", "value " + fmt(t.exponent) + " must be >= 1 (a tyre stiffens as it deflects)");
+      }
+      if (t.law == TyreLaw::Table) {
+        t.curve = readCurve(scenePath(r, "load_table", baseDir), r, "load_table");
+        if (t.curve->xMax() < t.deltaMax - 1e-12)
+          r.fail("load_table", "table ends at deflection " + fmt(t.curve->xMax()) + " m, before delta_max = " + fmt(t.deltaMax) +
+                                   " m: it must cover the tyre's allowed deflection");
+      }
+      t.damped = r.has("c");
+      if (!t.damped && r.has("damping_exponent")) r.fail("damping_exponent", "needs the damping coefficient c");
+      t.c = r.nonNegative("c", 0.0);
+      t.dampingExponent = r.nonNegative("damping_exponent", 0.0);
+      t.longitudinal = r.has("mu_x");
+      if (!t.longitudinal)
+        for (const char* k : {"slip_ratio", "forward"})
+          if (r.has(k)) r.fail(k, "needs the longitudinal friction coefficient mu_x");
+      if (t.longitudinal) {
+        t.muX = r.positive("mu_x");
+        if (!(t.muX <= 1.5)) r.fail("mu_x", "value " + fmt(t.muX) + " must be <= 1.5 (a tyre's friction coefficient)");
+        t.slipRatio = r.positive("slip_ratio", 0.05);
+        if (!(t.slipRatio < 1)) r.fail("slip_ratio", "value " + fmt(t.slipRatio) + " must be < 1 (a slip ratio)");
+        t.forward = r.unitVec3("forward", Vec3<double>(1, 0, 0));
+        if (std::abs(t.forward.dot(t.normal)) > 1e-9)
+          r.fail("forward", "must lie in the ground plane (perpendicular to ground_normal)");
+      }
       f.type = t;
       sc.roles.tyres.push_back(static_cast<int>(m.forces.size()));
     } else if (type == "spring_damper") {
