@@ -36,7 +36,7 @@ template <class S> struct StrutFigures {
   S stroke_max = S(0), stroke_limit = S(0), stroke_margin = S(0), force_max = S(0), efficiency = S(0), work = S(0);
 };
 template <class S> struct TyreFigures {
-  S deflection_max = S(0), deflection_limit = S(0), margin = S(0), load_max = S(0);
+  S deflection_max = S(0), deflection_limit = S(0), margin = S(0), load_max = S(0), drag_max = S(0);
 };
 
 // A drop's figures in the scalar S (CaseMetrics holds their values).
@@ -44,7 +44,7 @@ template <class S> struct CaseFigures {
   S peak_load = S(0), t_peak = S(0), load_factor = S(0), inertia_load_factor = S(0), stroke_max = S(0),
     stroke_margin = S(0), h_max = S(0), tyre_deflection_max = S(0), tyre_margin = S(0), efficiency = S(0),
     strut_efficiency = S(0), strut_force_max = S(0), energy_absorbed = S(0), energy_to_absorb = S(0),
-    rebound_velocity = S(0), mass = S(0);
+    rebound_velocity = S(0), mass = S(0), drag_peak = S(0), t_drag_peak = S(0);
   std::vector<StrutFigures<S>> struts;
   std::vector<TyreFigures<S>> tyres;
   double energy_dissipated = 0, energy_balance_error = 0, constraint_violation_max = 0;
@@ -68,13 +68,13 @@ template <class S> CaseFigures<double> valuesOf(const CaseFigures<S>& F) {
                           {&v.efficiency, &F.efficiency}, {&v.strut_efficiency, &F.strut_efficiency},
                           {&v.strut_force_max, &F.strut_force_max}, {&v.energy_absorbed, &F.energy_absorbed},
                           {&v.energy_to_absorb, &F.energy_to_absorb}, {&v.rebound_velocity, &F.rebound_velocity},
-                          {&v.mass, &F.mass}})
+                          {&v.mass, &F.mass}, {&v.drag_peak, &F.drag_peak}, {&v.t_drag_peak, &F.t_drag_peak}})
     *dst = value(*src);
   for (const auto& st : F.struts)
     v.struts.push_back({value(st.stroke_max), value(st.stroke_limit), value(st.stroke_margin), value(st.force_max),
                         value(st.efficiency), value(st.work)});
   for (const auto& t : F.tyres)
-    v.tyres.push_back({value(t.deflection_max), value(t.deflection_limit), value(t.margin), value(t.load_max)});
+    v.tyres.push_back({value(t.deflection_max), value(t.deflection_limit), value(t.margin), value(t.load_max), value(t.drag_max)});
   v.energy_dissipated = F.energy_dissipated;
   v.energy_balance_error = F.energy_balance_error;
   v.constraint_violation_max = F.constraint_violation_max;
@@ -87,11 +87,11 @@ template <class S> class DropObserver {
  public:
   // The channels the observer reads at one time.
   struct Channels {
-    S t = S(0), Py = S(0), PyDot = S(0), h = S(0), hdot = S(0);
+    S t = S(0), Py = S(0), PyDot = S(0), h = S(0), hdot = S(0), Px = S(0);
     std::vector<S> s, sdot, Pa;        // per strut
-    std::vector<S> delta, ddelta, Pt, dPt;  // per tyre
+    std::vector<S> delta, ddelta, Pt, dPt, px;  // per tyre (px: P_x, 0 without a longitudinal force)
     Channels(size_t struts = 0, size_t tyres = 0)
-        : s(struts), sdot(struts), Pa(struts), delta(tyres), ddelta(tyres), Pt(tyres), dPt(tyres) {}
+        : s(struts), sdot(struts), Pa(struts), delta(tyres), ddelta(tyres), Pt(tyres), dPt(tyres), px(tyres) {}
   };
 
   // 'record' (double only) receives the time histories when opt.record is set.
@@ -108,6 +108,8 @@ template <class S> class DropObserver {
       tyreOut_.push_back(m.outputOffset[f]);
       dampedTyre_.push_back(std::get<Tyre<S>>(m.forces[f].type).damped);
       if (dampedTyre_.back()) rateFromDense_ = true;
+      dragTyre_.push_back(std::get<Tyre<S>>(m.forces[f].type).longitudinal);
+      if (dragTyre_.back()) drag_ = true;
     }
     for (int f : sc.roles.struts) {
       strutOut_.push_back(m.outputOffset[f]);
@@ -150,7 +152,9 @@ template <class S> class DropObserver {
     for (size_t k = 0; k < F_.tyres.size(); ++k) {
       F_.tyres[k].deflection_max = prev_.delta[k];
       F_.tyres[k].load_max = prev_.Pt[k];
+      F_.tyres[k].drag_max = prev_.px[k];
     }
+    F_.drag_peak = prev_.Px;
     checkBottom(s);
   }
 
@@ -180,7 +184,14 @@ template <class S> class DropObserver {
       // (a damped tyre's load peaks before its deflection: its own rate)
       refine(dampedTyre_[k] ? prev_.dPt[k] : prev_.ddelta[k], dampedTyre_[k] ? end_.dPt[k] : end_.ddelta[k], t0, t1, d,
              [k](const Channels& c) { return c.Pt[k]; }, T.load_max, nullptr, end_.Pt[k], t1);
+      // The drag load (no rate channel): searched on the dense output where the step may hold its maximum.
+      if (dragTyre_[k])
+        refineWithoutRate(prev_.px[k], mid_.px[k], end_.px[k], t0, t1, d, [k](const Channels& c) { return c.px[k]; },
+                          T.drag_max);
     }
+    if (drag_)
+      refineWithoutRate(prev_.Px, mid_.Px, end_.Px, t0, t1, d, [](const Channels& c) { return c.Px; }, F_.drag_peak, false,
+                        &F_.t_drag_peak);
     for (size_t k = 0; k < F_.struts.size(); ++k) {
       auto& St = F_.struts[k];
       workPa_[k] += simpson(prev_.Pa[k] * prev_.sdot[k], mid_.Pa[k] * mid_.sdot[k], end_.Pa[k] * end_.sdot[k], h);
@@ -245,7 +256,7 @@ template <class S> class DropObserver {
     kinematics(m_, s.y, w);
     EnergyReport<S> e = energy(m_, s, w);
     const double uExt = externalPotential(w);
-    const double input = ek0_ + std::abs(uExt0_ - uExt);
+    const double input = ek0_ + std::abs(uExt0_ - uExt) + std::abs(value(e.input));  // (+ the ground's work)
     F_.energy_balance_error = std::abs(value(e.total()) - e0_) / std::max(input, 1e-300);
     F_.energy_dissipated = value(e.dissipated);
     F_.energy_absorbed = workPyAtMax_;
@@ -307,7 +318,7 @@ template <class S> class DropObserver {
   // Channels at the workspace's current kinematics (outputs must be current).
   void channels(const S& t, const Workspace<S>& w, Channels& c) const {
     c.t = t;
-    c.Py = c.PyDot = S(0);
+    c.Py = c.PyDot = c.Px = S(0);
     for (size_t k = 0; k < tyreOut_.size(); ++k) {
       const S* o = w.outputs.data() + tyreOut_[k];  // delta, P_t, delta', P_t'
       c.delta[k] = o[0];
@@ -316,6 +327,8 @@ template <class S> class DropObserver {
       c.dPt[k] = o[3];
       c.Py += o[1];
       c.PyDot += o[3];
+      c.px[k] = dragTyre_[k] ? o[4] : S(0);  // delta, P_t, delta', P_t', P_x, v_s
+      c.Px += c.px[k];
     }
     for (size_t k = 0; k < strutOut_.size(); ++k) {
       const S* o = w.outputs.data() + strutOut_[k];  // s, s', p_1, P_a, ...
@@ -392,20 +405,21 @@ template <class S> class DropObserver {
   // Returns true if the maximum moved.
   template <class F>
   bool refineWithoutRate(const S& v0, const S& vm, const S& v1, const S& t0, const S& t1, const DenseOutput<S>& d, F f,
-                         S& best, bool endOnly = false) {
+                         S& best, bool endOnly = false, S* tBest = nullptr) {
     const double a = value(v0), m = value(vm), b = value(v1);
     const bool atStart = !endOnly && a >= m && a >= b, atMiddle = m > b && (endOnly || m > a);
     if (atStart || atMiddle) {
       const S tb = atStart ? S(0.5) * (t0 + t1) : t1;
-      return refine(S(1.0), S(-1.0), t0, tb, d, f, best, nullptr, atStart ? v0 : vm, atStart ? t0 : S(0.5) * (t0 + t1));
+      return refine(S(1.0), S(-1.0), t0, tb, d, f, best, tBest, atStart ? v0 : vm, atStart ? t0 : S(0.5) * (t0 + t1));
     }
     if (b > value(best)) {
       // The largest sample at the end: the maximum is inside [t_mid, t1] if the channel already falls at
       // t1 (a backward difference on the dense output), else at t1 or beyond.
       const double dt = 1e-3 * (value(t1) - value(t0));
       channelsAt(S(value(t1) - dt), d, scratch_);
-      if (value(f(scratch_)) > b) return refine(S(1.0), S(-1.0), S(0.5) * (t0 + t1), t1, d, f, best, nullptr, v1, t1);
+      if (value(f(scratch_)) > b) return refine(S(1.0), S(-1.0), S(0.5) * (t0 + t1), t1, d, f, best, tBest, v1, t1);
       best = v1;
+      if (tBest) *tBest = t1;
       return true;
     }
     return false;
@@ -438,9 +452,11 @@ template <class S> class DropObserver {
     for (int off : tyreOut_) Py += o[off + 1];
     if (!tyreOut_.empty()) row.push_back(Py);
     if (airframe_ >= 0) row.push_back(sc_.up.template cast<S>().dot(r0_ - wk.kin[airframe_].r));
-    for (int off : tyreOut_) {
+    for (size_t k = 0; k < tyreOut_.size(); ++k) {
+      const int off = tyreOut_[k];
       row.push_back(o[off]);
       if (tyreOut_.size() > 1) row.push_back(o[off + 1]);
+      if (dragTyre_[k]) row.push_back(o[off + 4]);
     }
     for (size_t k = 0; k < strutOut_.size(); ++k)
       for (int i = 0; i < strutOutputs_[k]; ++i) row.push_back(o[strutOut_[k] + i]);
@@ -591,6 +607,8 @@ template <class S> class DropObserver {
   std::vector<int> tyreOut_, strutOut_, strutOutputs_, stopRows_, bottomRows_;
   std::vector<bool> dampedTyre_;  // per tyre: its load rate is taken on the dense output (denseRates)
   bool rateFromDense_ = false;
+  std::vector<bool> dragTyre_;    // per tyre: it has a longitudinal force (P_x, its 5th output)
+  bool drag_ = false;
   Vec3<S> r0_ = Vec3<S>::Zero();
   VecX<S> ytmp_, ydotTmp_, lambdaTmp_;
   long nextRow_ = 0;          // next dense output row (outputTimes, outputInterval)

@@ -48,6 +48,7 @@ std::vector<Column> historyColumns(const Scene& scene) {
     const std::string sfx = manyTyres ? "_" + m.forces[f].name : "";
     c.push_back({"delta" + sfx, "m"});
     if (manyTyres) c.push_back({"P_t" + sfx, "N"});
+    if (std::get<Tyre<double>>(m.forces[f].type).longitudinal) c.push_back({"P_x" + sfx, "N"});
   }
   for (int f : scene.roles.struts) {
     const std::string sfx = manyStruts ? "_" + m.forces[f].name : "";
@@ -89,6 +90,9 @@ CaseMetrics caseMetrics(const CaseFigures<double>& F, const Scene& scene, const 
   M.name = c.name;
   M.sink_speed_mps = c.sinkSpeed;
   M.lift_ratio = c.liftRatio;
+  M.forward_speed_mps = c.forwardSpeed;
+  M.drag_peak_N = F.drag_peak;
+  M.t_drag_peak_s = F.t_drag_peak;
   M.mass_kg = F.mass;
   M.peak_load_N = F.peak_load;
   M.t_peak_s = F.t_peak;
@@ -117,7 +121,10 @@ CaseMetrics caseMetrics(const CaseFigures<double>& F, const Scene& scene, const 
   }
   for (size_t k = 0; k < F.tyres.size(); ++k) {
     const auto& T = F.tyres[k];
-    M.tyres.push_back({scene.model.forces[scene.roles.tyres[k]].name, T.deflection_max, T.deflection_limit, T.margin, T.load_max});
+    const auto& t = std::get<Tyre<double>>(scene.model.forces[scene.roles.tyres[k]].type);
+    M.tyres.push_back({scene.model.forces[scene.roles.tyres[k]].name, T.deflection_max, T.deflection_limit, T.margin, T.load_max,
+                       t.longitudinal, T.drag_max});
+    M.longitudinal = M.longitudinal || t.longitudinal;
   }
   return M;
 }
@@ -158,7 +165,7 @@ std::vector<CaseResult> runCases(const Scene& scene, const std::vector<DropCase>
   // Cases that differ only by name (same sink speed, lift ratio, duration and effective masses: a
   // scene's "limit" and the matrix's limit case, say) run once; their results are copied, renamed.
   auto key = [&](const DropCase& c) {
-    std::vector<double> k{c.sinkSpeed, c.liftRatio, c.duration};
+    std::vector<double> k{c.sinkSpeed, c.liftRatio, c.duration, c.forwardSpeed};
     for (const auto& b : scene.model.bodies) {
       const auto it = c.masses.find(b.name);
       k.push_back(it == c.masses.end() ? b.mass : it->second);

@@ -32,6 +32,8 @@ struct TyreMetrics {
   double deflection_limit_m = 0;  // delta_max of the tyre
   double margin_m = 0;          // delta_max - max delta (negative: over its limit)
   double load_max_N = 0;        // max P_t
+  bool longitudinal = false;    // the tyre declares mu_x (drag_max_N is its)
+  double drag_max_N = 0;        // max P_x, the drag load (positive aft)
 };
 
 // Per-case figures (definitions in seed-gear.md and README "Metrics"). Peaks are refined on the dense
@@ -42,6 +44,10 @@ struct CaseMetrics {
   std::string message;                 // why a run failed
   double sink_speed_mps = 0;           // V_y0 of the case
   double lift_ratio = 0;               // L of the case
+  double forward_speed_mps = 0;        // V_x of the case (the ground under the tyres that declare mu_x)
+  bool longitudinal = false;           // a tyre declares mu_x: the drag figures below are its
+  double drag_peak_N = 0;              // max P_x, P_x = sum of the tyres' drag loads (spin-up, spring-back)
+  double t_drag_peak_s = 0;
   double mass_kg = 0;                  // W: total mass of the scene in this case
   double peak_load_N = 0;              // max P_y, P_y = sum of the tyre loads
   double t_peak_s = 0;
@@ -57,9 +63,10 @@ struct CaseMetrics {
   double strut_force_max_N = 0;        // max over the struts of P_a,max
   double energy_absorbed_J = 0;        // work of the gear over the compression: integral(P_y dh) up to h_max
   double energy_to_absorb_J = 0;       // E = W V^2 / 2 + (1 - L) W g h_max (certification.md)
-  double energy_dissipated_J = 0;      // dissipated by orifices, friction and impacts over the whole run
-  double energy_balance_error = 0;     // |E(T) - E(0)| / (E_kin(0) + |U_ext(T) - U_ext(0)|), E = kinetic +
-                                       // stored + dissipated, U_ext the potential of gravity and lift
+  double energy_dissipated_J = 0;      // dissipated by orifices, friction, dampers, tyre slip and impacts over the run
+  double energy_balance_error = 0;     // |E(T) - E(0)| / (E_kin(0) + |U_ext(T) - U_ext(0)| + W_g), E = kinetic +
+                                       // stored + dissipated - W_g, U_ext the potential of gravity and lift,
+                                       // W_g the moving ground's work on the tyres (forward speed; else 0)
   double constraint_violation_max = 0; // [m] largest |C| of an enforced row seen at a step end
   double rebound_velocity_mps = 0;     // largest upward airframe velocity after the compression (>= 0)
   bool compression_ended = false;      // h reached its maximum within the duration
@@ -82,7 +89,7 @@ struct Column {
   std::string name, unit;
 };
 // The columns of a scene's time histories after t [s]: P_y, h, each tyre's delta (and P_t with several
-// tyres), each strut's internals (s, s_dot, p_1, P_a, P_gas, P_friction, P_orifice1, P_orifice2 when
+// tyres, P_x with a longitudinal force), each strut's internals (s, s_dot, p_1, P_a, P_gas, P_friction, P_orifice1, P_orifice2 when
 // declared; suffixed "_<strut>" with several struts), each stop's force F_<stop>, and violation.
 std::vector<Column> historyColumns(const Scene& scene);
 
@@ -112,10 +119,15 @@ struct CaseResult {
 
 // The total mass [kg] of a case: the scene's bodies with the case's mass overrides.
 double caseMass(const Scene& scene, const DropCase& c);
-// Applies a case to a model of the scene (any scalar): the case's masses, and the lift L G g on the
-// lift elements with G the total mass (L and the masses may carry derivatives).
+// Applies a case to a model of the scene (any scalar): the case's masses, the lift L G g on the lift
+// elements with G the total mass (L and the masses may carry derivatives), and the forward speed V_x
+// under the tyres with a longitudinal force.
 template <class S> void applyCase(const Scene& scene, Model<S>& m, const DropCase& c, const S& liftRatio) {
   for (const auto& [name, mass] : c.masses) m.bodies[m.bodyIndex(name)].mass = S(mass);
+  for (int ti : scene.roles.tyres) {
+    auto& t = std::get<Tyre<S>>(m.forces[ti].type);
+    if (t.longitudinal) t.groundSpeed = S(c.forwardSpeed);
+  }
   S G = S(0);  // [kg] total mass
   for (const auto& b : m.bodies) G += b.mass;
   for (int li : scene.roles.lifts) {

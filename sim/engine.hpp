@@ -200,7 +200,8 @@ template <class S> struct EnergyReport {
   S kinetic = S(0);     // [J]
   S stored = S(0);      // [J] potential of gravity and constant forces, gas, tyre, springs
   S dissipated = S(0);  // [J] orifices, friction, dampers, plastic impacts
-  S total() const { return kinetic + stored + dissipated; }
+  S input = S(0);       // [J] minus the work put in by moving surroundings (the ground under a rolling tyre)
+  S total() const { return kinetic + stored + dissipated + input; }
 };
 // Kinematics must be current (kinematics(m, y, w) for state.y).
 template <class S> EnergyReport<S> energy(const Model<S>& m, const State<S>& s, const Workspace<S>& w) {
@@ -211,7 +212,7 @@ template <class S> EnergyReport<S> energy(const Model<S>& m, const State<S>& s, 
   }
   const Kins<S> K = w.kins();
   for (const auto& f : m.forces) e.stored += std::visit([&](const auto& el) { return el.stored(K); }, f.type);
-  for (int c = 0; c < m.nDissipation; ++c) e.dissipated += s.y[m.nx() + m.nv() + c];
+  for (int c = 0; c < m.nDissipation; ++c) (m.inputChannel[c] ? e.input : e.dissipated) += s.y[m.nx() + m.nv() + c];
   e.dissipated += s.impactLoss;
   return e;
 }

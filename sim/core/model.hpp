@@ -47,6 +47,7 @@ template <class S> struct Model {
   std::vector<int> dissipationOffset, eventOffset, outputOffset, dampingOffset;  // per force element
   int nRows = 0, nDissipation = 0, nForceEvents = 0, nOutputs = 0, nDamping = 0;
   int nErrorChannels = 0;         // the first dissipation channels, error-controlled like x and V
+  std::vector<char> inputChannel; // per dissipation channel: it holds work put in (booked negative), not dissipation
   std::vector<std::string> outputNames;  // "<element>.<channel>"
 
   int nBodies() const { return static_cast<int>(bodies.size()); }
@@ -84,6 +85,10 @@ template <class S> struct Model {
         dissipationOffset[f] = nDissipation;
         nDissipation += forces[f].dissipationChannels();
       }
+    inputChannel.assign(nDissipation, 0);
+    for (size_t f = 0; f < forces.size(); ++f)
+      for (int k = forces[f].dissipationChannels() - forces[f].inputChannels(); k < forces[f].dissipationChannels(); ++k)
+        inputChannel[dissipationOffset[f] + k] = 1;
     for (const auto& f : forces) {
       dampingOffset.push_back(nDamping);
       nDamping += f.dampingTerms();

@@ -54,6 +54,16 @@ template <class S> struct ForceElement {
         },
         type);
   }
+  // Of its dissipation channels, how many (the last ones) hold the work that moving surroundings put in
+  // (the ground under a rolling tyre), booked with a minus sign: the energy report keeps them apart.
+  int inputChannels() const {
+    return std::visit(
+        [](const auto& f) {
+          if constexpr (requires { f.inputChannels(); }) return f.inputChannels();
+          else return 0;
+        },
+        type);
+  }
   int eventCount() const {
     return std::visit(
         [](const auto& f) {

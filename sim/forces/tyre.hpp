@@ -73,6 +73,7 @@ template <class S> struct Tyre {
   int dissipationChannels() const { return (damped ? 1 : 0) + (longitudinal ? 2 : 0); }
   int dampingTerms() const { return (damped ? 1 : 0) + (longitudinal ? 1 : 0); }
   int eventCount() const { return damped ? 2 : 1; }
+  int inputChannels() const { return longitudinal ? 1 : 0; }  // the ground's work (the last channel)
   // The dissipation of damping and slip has kinks (the clamp, the contact's end): the steps must resolve them.
   bool dissipationErrorControlled() const { return damped || longitudinal; }
 

@@ -65,6 +65,11 @@ std::string metricsJson(const CaseMetrics& m, const std::string& in) {
   num("energy_balance_error", m.energy_balance_error);
   num("constraint_violation_max", m.constraint_violation_max);
   num("rebound_velocity_mps", m.rebound_velocity_mps);
+  if (m.longitudinal) {  // a tyre declares mu_x
+    num("forward_speed_mps", m.forward_speed_mps);
+    num("drag_peak_N", m.drag_peak_N);
+    num("t_drag_peak_s", m.t_drag_peak_s);
+  }
   o << in << "  \"compression_ended\": " << (m.compression_ended ? "true" : "false") << ",\n";
   o << in << "  \"bottomed\": " << (m.bottomed ? "true" : "false") << ",\n";
   o << in << "  \"limits\": {\"within\": " << (m.withinLimits() ? "true" : "false")
@@ -83,7 +88,9 @@ std::string metricsJson(const CaseMetrics& m, const std::string& in) {
     const auto& t = m.tyres[k];
     o << (k ? ", " : "") << "{\"name\": " << jsonString(t.name) << ", \"deflection_max_m\": " << jsonNumber(t.deflection_max_m)
       << ", \"deflection_limit_m\": " << jsonNumber(t.deflection_limit_m) << ", \"margin_m\": " << jsonNumber(t.margin_m)
-      << ", \"load_max_N\": " << jsonNumber(t.load_max_N) << "}";
+      << ", \"load_max_N\": " << jsonNumber(t.load_max_N);
+    if (t.longitudinal) o << ", \"drag_max_N\": " << jsonNumber(t.drag_max_N);
+    o << "}";
   }
   o << "],\n";
   o << in << "  \"steps\": " << m.steps << ",\n";
@@ -162,8 +169,12 @@ std::string summaryCsv(const std::vector<CaseResult>& results) {
   std::string out = "case,ok,sink_speed[m/s],lift_ratio[-],mass[kg],peak_load[N],t_peak[s],load_factor[-],"
                     "inertia_load_factor[-],stroke_max[m],stroke_margin[m],h_max[m],tyre_deflection_max[m],"
                     "tyre_margin[m],efficiency[-],strut_efficiency[-],strut_force_max[N],energy_absorbed[J],"
-                    "energy_to_absorb[J],energy_dissipated[J],energy_balance_error[-],rebound_velocity[m/s],"
-                    "bottomed,within_limits,violations,steps,rhs_evaluations,wall_time[s]\n";
+                    "energy_to_absorb[J],energy_dissipated[J],energy_balance_error[-],rebound_velocity[m/s],";
+  // The drag figures where a tyre declares mu_x.
+  bool drag = false;
+  for (const CaseResult& r : results) drag = drag || r.metrics.longitudinal;
+  if (drag) out += "forward_speed[m/s],drag_peak[N],t_drag_peak[s],";
+  out += "bottomed,within_limits,violations,steps,rhs_evaluations,wall_time[s]\n";
   auto num = [](double v) {
     if (!std::isfinite(v)) return std::string();
     char b[40];
@@ -181,6 +192,8 @@ std::string summaryCsv(const std::vector<CaseResult>& results) {
                      m.tyre_margin_m, m.efficiency, m.strut_efficiency, m.strut_force_max_N, m.energy_absorbed_J,
                      m.energy_to_absorb_J, m.energy_dissipated_J, m.energy_balance_error, m.rebound_velocity_mps})
       out += "," + num(v);
+    if (drag)
+      for (double v : {m.forward_speed_mps, m.drag_peak_N, m.t_drag_peak_s}) out += "," + num(v);
     out += std::string(",") + (m.bottomed ? "1" : "0") + "," + (m.withinLimits() ? "1" : "0") + ",\"" + viol + "\"," +
            std::to_string(m.steps) + "," + std::to_string(m.rhs_evaluations) + "," + num(m.wall_time_s) + "\n";
   }

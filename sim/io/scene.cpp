@@ -519,7 +519,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   std::set<std::string> caseNames;
   for (size_t i = 0; i < cases.size(); ++i) {
     TomlReader r(*cases[i], file, "case[" + std::to_string(i) + "]");
-    r.allowOnly({"name", "sink_speed", "lift_ratio", "duration", "masses"});
+    r.allowOnly({"name", "sink_speed", "lift_ratio", "duration", "masses", "forward_speed"});
     DropCase c;
     c.name = r.name("name");
     if (!caseNames.insert(c.name).second) r.fail("name", "case '" + c.name + "' is defined twice");
@@ -527,6 +527,12 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     c.liftRatio = r.nonNegative("lift_ratio", 0.0);
     c.duration = r.positive("duration", 0.8);
     if (c.liftRatio > 0 && sc.roles.lifts.empty()) r.fail("lift_ratio", "the scene declares no lift element");
+    c.forwardSpeed = r.nonNegative("forward_speed", 0.0);
+    if (r.has("forward_speed")) {
+      bool friction = false;
+      for (int f : sc.roles.tyres) friction = friction || std::get<Tyre<double>>(m.forces[f].type).longitudinal;
+      if (!friction) r.fail("forward_speed", "no tyre of this scene declares the longitudinal friction coefficient mu_x");
+    }
     if (const toml::node* mn = cases[i]->get("masses")) {
       const toml::table* mt = mn->as_table();
       if (!mt) r.fail("masses", "must be a table of body = mass");

@@ -45,6 +45,7 @@ struct DropCase {
   double sinkSpeed = 0;    // [m/s] V_y0
   double liftRatio = 0;    // [-] L: lift P_H = L G g on the lift elements
   double duration = 0.8;   // [s]
+  double forwardSpeed = 0; // [m/s] V_x: the ground moves aft at V_x under the tyres that declare mu_x
   std::map<std::string, double> masses;  // [kg] body name -> mass, overriding the scene for this case
 };
 

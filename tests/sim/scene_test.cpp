@@ -41,7 +41,8 @@ int runSimulate(const std::string& scene, const std::string& out, const std::str
 }  // namespace
 
 TEST_CASE("shipped scenes load", "[scene]") {
-  for (const char* f : {"data/seed_gear.toml", "data/telescopic_gear.toml", "data/seed_gear_metering_pin.toml"}) {
+  for (const char* f : {"data/seed_gear.toml", "data/telescopic_gear.toml", "data/seed_gear_metering_pin.toml",
+                        "data/main_gear.toml"}) {
     INFO(f);
     const lg::Scene sc = lg::loadScene(lgtest::sourcePath(f));
     CHECK(sc.roles.airframe == "airframe");

@@ -534,6 +534,272 @@ TEST_CASE("tyre options: bad input names file, line, key and rule, exit status 2
            "needs the longitudinal friction coefficient mu_x"},
           {"forward off the ground plane", with("mu_x = 0.8\nforward = [1.0, 1.0, 0.0]\n"), "forward = [1.0, 1.0", "force[3].forward",
            "must lie in the ground plane"},
+          {"forward speed without a tyre with friction",
+           lgtest::replacedText(seed, "sink_speed = 2.0\n", "sink_speed = 2.0\nforward_speed = 60.0\n"), "forward_speed = 60.0",
+           "case[0].forward_speed", "no tyre of this scene declares the longitudinal friction coefficient mu_x"},
+          {"negative forward speed",
+           lgtest::replacedText(with("mu_x = 0.8\n"), "sink_speed = 2.0\n", "sink_speed = 2.0\nforward_speed = -60.0\n"),
+           "forward_speed = -60.0", "case[0].forward_speed", "value -60 must be >= 0"},
       },
       dir);
+}
+
+// ---- wheel spin-up: the longitudinal force (sim/forces/tyre.hpp) -----------------------------------
+
+namespace {
+
+// A free wheel on its axle (revolute to the ground, no gravity), pressed 20 mm into a belt that moves
+// aft at V: the tyre's load P = K delta stays constant and only the wheel's spin moves.
+const char* kBelt = R"(
+[solver]
+integrator = "dopri5"
+rtol = 1e-11
+atol = 1e-13
+
+[[body]]
+name = "wheel"
+mass = 20.0
+inertia = [0.5, 0.5, 0.8]
+position = [0.0, 0.3, 0.0]
+
+[[joint]]
+name = "axle"
+type = "revolute"
+body1 = "wheel"
+body2 = "ground"
+point = [0.0, 0.3, 0.0]
+axis = [0.0, 0.0, 1.0]
+
+[[force]]
+name = "tyre"
+type = "tyre"
+body = "wheel"
+radius = 0.3
+K = 2.0e5
+delta_max = 0.1
+alpha = 0.0
+mu_x = 0.8
+)";
+
+constexpr double kIz = 0.8, kBeltV = 10.0, kMu = 0.8, kPress = 0.02, kKb = 2.0e5;
+
+// The spin-up in closed form. The slip v_s = omega_z h + V (h: the axle's height over the belt) obeys
+// I v_s' = -h^2 mu P v_s / sqrt(v_s^2 + eps^2), i.e. v_s' = -a v_s / S with a = mu P h^2 / I, S =
+// sqrt(v_s^2 + eps^2), whose solution is F(v_s(t)) = F(V) - a t with F(v) = S - eps ln((eps + S) / v).
+// Whatever the slip law, once the wheel rolls (v_s -> 0): the impulse of the drag is I V / h^2, the
+// belt's work on the tyre V times it, and half of that is lost in the slip (the other half is the
+// wheel's kinetic energy I omega^2 / 2).
+struct SpinUp {
+  double P = kKb * kPress, h = 0.3 - kPress, eps = 0.05 * kBeltV, a = kMu * P * h * h / kIz;
+  double F(double v) const {
+    const double S = std::sqrt(v * v + eps * eps);
+    return S - eps * std::log((eps + S) / v);
+  }
+  double timeTo(double v) const { return (F(kBeltV) - F(v)) / a; }
+  // d v_s / d a at fixed t, where v_s(t) = v.
+  double dvda(double v, double t) const { return -t * v / std::sqrt(v * v + eps * eps); }
+};
+
+// The belt scene's model with the belt raised into the tyre and moving at V (any scalar).
+template <class S> lg::Model<S> beltModel(const lg::Scene& sc) {
+  lg::Model<S> m = sc.model.template cast<S>();
+  auto& t = std::get<lg::Tyre<S>>(m.forces[m.forceIndex("tyre")].type);
+  t.groundHeight = S(kPress);
+  t.groundSpeed = S(kBeltV);
+  return m;
+}
+
+struct BeltState {
+  double vSlip, kinetic, slip, groundWork, energyError;
+};
+// Runs the belt model from rest to each time in 'ts' (increasing); the slip velocity (any scalar) and,
+// for doubles, the energies at each.
+template <class S> std::vector<S> beltRun(const lg::Scene& sc, const lg::Model<S>& m, const std::vector<double>& ts,
+                                          std::vector<BeltState>* energies = nullptr) {
+  lg::State<S> s(m);
+  s.y = sc.initial.y.template cast<S>();
+  s.active = sc.initial.active;
+  lg::Workspace<S> w(m);
+  lg::kinematics(m, s.y, w);
+  const double E0 = lg::value(lg::energy(m, s, w).total());
+  const auto& tyre = std::get<lg::Tyre<S>>(m.forces[m.forceIndex("tyre")].type);
+  const int ch = m.nx() + m.nv() + m.dissipationOffset[m.forceIndex("tyre")];
+  std::vector<S> out;
+  for (double t : ts) {
+    REQUIRE(lg::simulate(m, s, w, t).ok);
+    REQUIRE(std::abs(lg::value(s.t) - t) < 1e-12);
+    lg::kinematics(m, s.y, w);
+    out.push_back(tyre.contact(w.kins()).vSlip);
+    if (energies) {
+      const auto e = lg::energy(m, s, w);
+      energies->push_back({lg::value(out.back()), lg::value(e.kinetic), lg::value(s.y[ch]), -lg::value(s.y[ch + 1]),
+                           std::abs(lg::value(e.total()) - E0)});
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+// Spin-up of a free wheel on a moving belt (V = 10 m/s, P = 4 kN, mu_x = 0.8, eps = 0.5 m/s) against
+// the closed form: the slip velocity at the times the closed form gives for v_s = 5 m/s (mid spin-up)
+// and 0.05 m/s (deep in the regularisation's tail) to 1e-10 of V (measured 3.8e-13, 3.3e-12); after
+// 0.3 s (rolling): the drag's impulse (the belt's work / V) I V / h^2 = 102.04 N s to 1e-12 relative
+// (measured 1.7e-15), the slip's dissipation I V^2 / (2 h^2) = 510.2 J to 1e-11 (measured 1.8e-13) and
+// the wheel's kinetic energy to 1e-12 (measured 1.1e-16): half of the belt's work lost, as for Coulomb
+// friction; the energy balance (kinetic + slip - belt's work) to 1e-11 of the belt's work (measured 9e-14).
+TEST_CASE("tyre spin-up: a free wheel on a moving belt against the closed form", "[tyre][spinup]") {
+  const lg::Scene sc = lgtest::inlineScene(kBelt);
+  REQUIRE(sc.model.nDissipation == 2);  // slip, belt's work
+  REQUIRE(sc.model.nForceEvents == 1);
+  const lg::Model<double> m = beltModel<double>(sc);
+  const SpinUp cf;
+  const double t1 = cf.timeTo(5.0), t2 = cf.timeTo(0.05);
+  REQUIRE(t1 > 0.005);
+  REQUIRE(t2 < 0.1);
+  std::vector<BeltState> e;
+  const auto v = beltRun(sc, m, {t1, t2, 0.3}, &e);
+  const double J = e[2].groundWork / kBeltV, Jcf = kIz * kBeltV / (cf.h * cf.h);
+  const double D = kIz * kBeltV * kBeltV / (2 * cf.h * cf.h);
+  lgtest::report("spin-up: v_s(%.6f s) = %.12f (5, err %.1e of V), v_s(%.6f s) = %.12f (0.05, err %.1e of V); after 0.3 s: "
+                 "v_s %.2e, impulse %.10f N s (%.10f, rel. %.1e), slip %.9f J (%.9f, rel. %.1e), kinetic %.9f J (rel. %.1e), "
+                 "balance %.1e",
+                 t1, v[0], std::abs(v[0] - 5.0) / kBeltV, t2, v[1], std::abs(v[1] - 0.05) / kBeltV, v[2], J, Jcf,
+                 lgtest::relDiff(J, Jcf), e[2].slip, D, lgtest::relDiff(e[2].slip, D), e[2].kinetic,
+                 lgtest::relDiff(e[2].kinetic, D), e[2].energyError / e[2].groundWork);
+  CHECK(std::abs(v[0] - 5.0) / kBeltV < 1e-10);
+  CHECK(std::abs(v[1] - 0.05) / kBeltV < 1e-10);
+  CHECK(std::abs(v[2]) < 1e-10 * kBeltV);
+  CHECK(lgtest::relDiff(J, Jcf) < 1e-12);
+  CHECK(lgtest::relDiff(e[2].slip, D) < 1e-11);
+  CHECK(lgtest::relDiff(e[2].kinetic, D) < 1e-12);
+  CHECK(e[2].energyError / e[2].groundWork < 1e-11);
+}
+
+// Jet derivatives through the spin-up: d v_s / d mu_x and d v_s / dK at mid spin-up against the closed
+// form's (d v_s / da = -t v_s / S, a = mu_x K delta h^2 / I), to 1e-10 relative (measured 7.7e-12).
+TEST_CASE("tyre spin-up: Jet derivatives against the closed form", "[tyre][spinup][jet]") {
+  using J = ceres::Jet<double, 2>;
+  const lg::Scene sc = lgtest::inlineScene(kBelt);
+  lg::Model<J> mj = beltModel<J>(sc);
+  auto& tj = std::get<lg::Tyre<J>>(mj.forces[mj.forceIndex("tyre")].type);
+  tj.muX.v[0] = 1.0;
+  tj.K.v[1] = 1.0;
+  const SpinUp cf;
+  const double t1 = cf.timeTo(5.0);
+  const J v = beltRun(sc, mj, {t1})[0];
+  const double dv = cf.dvda(5.0, t1);
+  const double dmu = dv * cf.P * cf.h * cf.h / kIz, dK = dv * kMu * kPress * cf.h * cf.h / kIz;
+  lgtest::report("spin-up Jet: dv/dmu %.10e (closed form %.10e, rel. %.1e), dv/dK %.10e (%.10e, rel. %.1e)", v.v[0], dmu,
+                 lgtest::relDiff(v.v[0], dmu), v.v[1], dK, lgtest::relDiff(v.v[1], dK));
+  CHECK(lgtest::relDiff(v.v[0], dmu) < 1e-10);
+  CHECK(lgtest::relDiff(v.v[1], dK) < 1e-10);
+}
+
+// The longitudinal force's damping term (what the Rosenbrock-W integrators take: c_x = dP_x/dv_s along
+// G = (t, a_c x t)) against central differences of the force in the wheel's speed, G V = v_s - V to
+// round-off, and the Jet derivatives of P_x in mu_x and slip_ratio against central differences (1e-7).
+TEST_CASE("tyre spin-up: damping term and Jet derivatives of the drag", "[tyre][spinup][jet]") {
+  lg::Tyre<double> t = seedTyre();
+  t.longitudinal = true;
+  t.muX = 0.8;
+  t.groundSpeed = 10.0;
+  const double d = 0.03;
+  auto drag = [&](const lg::Tyre<double>& tt, double vx, double wz) {
+    OneBody b(0.30 - d);
+    b.k[0].v = lg::Vec3<double>(vx, 0.0, 0.0);
+    b.k[0].w = lg::Vec3<double>(0.0, 0.0, wz);
+    std::array<lg::Vec6<double>, 1> w{lg::Vec6<double>::Zero()};
+    double diss[2];
+    tt.apply(b.kins(), lg::Wrenches<double>{w.data()}, diss);
+    return -w[0][0];  // the force on the wheel is -P_x t
+  };
+  for (double wz : {0.0, -20.0, -35.0, -40.0}) {
+    INFO("omega_z " << wz);
+    OneBody b(0.30 - d);
+    b.k[0].w = lg::Vec3<double>(0.0, 0.0, wz);
+    lg::DampingTerm<double> dt[1];
+    t.damping(b.kins(), dt);
+    const double vs = t.contact(b.kins()).vSlip;
+    CHECK(dt[0].Gi.tail<3>().dot(b.k[0].w) == Approx(vs - 10.0).epsilon(1e-14));
+    const double h = 1e-5 * std::max(std::abs(vs), 0.5);  // relative to the slip's scale (eps = 0.5 m/s)
+    const double fd = (drag(t, h, wz) - drag(t, -h, wz)) / (2 * h);
+    CHECK(dt[0].c == Approx(fd).epsilon(1e-7));
+    using J = ceres::Jet<double, 2>;
+    lg::Tyre<J> tj = t.cast<J>();
+    tj.muX.v[0] = 1.0;
+    tj.slipRatio.v[1] = 1.0;
+    std::array<lg::BodyKin<J>, 2> kj{lg::BodyKin<J>::ground(), lg::BodyKin<J>::ground()};
+    kj[0].r = b.k[0].r.cast<J>();
+    kj[0].R = b.k[0].R.cast<J>();
+    kj[0].w = b.k[0].w.cast<J>();
+    const J Px = tj.contact(lg::Kins<J>{kj.data(), 1}).Px;
+    auto fdParam = [&](auto set, double step) {
+      lg::Tyre<double> a = t, c = t;
+      set(a, step);
+      set(c, -step);
+      return (drag(a, 0, wz) - drag(c, 0, wz)) / (2 * step);
+    };
+    CHECK(Px.a == Approx(drag(t, 0, wz)).epsilon(1e-15));
+    CHECK(Px.v[0] == Approx(fdParam([](lg::Tyre<double>& x, double s) { x.muX += s; }, 1e-6)).epsilon(1e-7));
+    CHECK(Px.v[1] == Approx(fdParam([](lg::Tyre<double>& x, double s) { x.slipRatio += s; }, 1e-7)).epsilon(1e-7));
+  }
+}
+
+// The shipped main gear (data/main_gear.toml: table tyre, tyre damping, spin-up, fore-aft flexibility) in
+// its drop cases: every case within its limits with the energy balance closed below 1e-6 (measured 1.1e-7;
+// the ground's work on the tyres in the balance); the drag never above mu_x P_t at any row; the peak
+// drag the largest P_x of the histories (refined on the dense output: at least the rows' largest, within
+// 1 % of it); spin-up at 60 m/s drags aft, the leg's spring-back then loads it forward (P_x < 0); the
+// drop without forward speed has a drag below 5 % of the spin-up's (the trailing link's rim motion
+// only). The seed gear's histories and summaries have no drag columns (what a scene does not declare
+// costs nothing).
+TEST_CASE("main gear scene: spin-up and spring-back in the drop cases", "[tyre][spinup][scene]") {
+  const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/main_gear.toml"));
+  lg::CaseOptions opt;
+  opt.record = true;
+  const auto results = lg::runCases(sc, sc.cases, 2, opt);
+  REQUIRE(results.size() == 3);
+  double dragNoSpeed = 0, dragSpinup = 0;
+  for (const auto& r : results) {
+    const auto& m = r.metrics;
+    INFO(m.name << ": " << m.message);
+    REQUIRE(m.ok);
+    CHECK(m.withinLimits());
+    CHECK(m.longitudinal);
+    CHECK(m.energy_balance_error < 1e-6);
+    CHECK(m.energy_dissipated_J > 0);
+    const int px = r.column("P_x"), py = r.column("P_y");
+    REQUIRE(px >= 0);
+    double rowMax = -1e300, rowMin = 1e300, worstRatio = 0;
+    for (const auto& row : r.samples) {
+      rowMax = std::max(rowMax, row.values[px]);
+      rowMin = std::min(rowMin, row.values[px]);
+      if (row.values[py] > 0) worstRatio = std::max(worstRatio, std::abs(row.values[px]) / row.values[py]);
+    }
+    lgtest::report("main gear %-15s V_x %4.0f m/s: peak P_y %.0f N, drag peak %.1f N at %.4f s (rows' largest %.1f N), "
+                   "least P_x %.1f N, |P_x|/P_t <= %.4f, E_bal %.2e, dissipated %.0f J, %ld steps",
+                   m.name.c_str(), m.forward_speed_mps, m.peak_load_N, m.drag_peak_N, m.t_drag_peak_s, rowMax, rowMin, worstRatio,
+                   m.energy_balance_error, m.energy_dissipated_J, m.steps);
+    CHECK(worstRatio <= 0.8 + 1e-12);
+    CHECK(m.drag_peak_N >= rowMax);
+    CHECK(m.drag_peak_N <= 1.01 * rowMax);
+    REQUIRE(m.tyres.size() == 1);
+    CHECK(m.tyres[0].drag_max_N == m.drag_peak_N);  // one tyre
+    if (m.forward_speed_mps > 0) {
+      CHECK(m.drag_peak_N > 0.25 * m.peak_load_N);  // spin-up: a drag of the order of mu_x P_t
+      CHECK(rowMin < -0.02 * m.drag_peak_N);        // spring-back
+      if (m.name == "limit-spinup") dragSpinup = m.drag_peak_N;
+    } else {
+      dragNoSpeed = m.drag_peak_N;
+    }
+  }
+  CHECK(dragNoSpeed < 0.05 * dragSpinup);
+  // What the seed gear does not declare costs nothing: no drag columns.
+  const lg::Scene seed = lg::loadScene(lgtest::sourcePath("data/seed_gear.toml"));
+  for (const auto& c : lg::historyColumns(seed)) CHECK(c.name != "P_x");
+  const auto seedRun = lg::runCase(seed, lgtest::findCase(seed, "limit"));
+  CHECK(!seedRun.metrics.longitudinal);
+  CHECK(lg::summaryCsv({seedRun}).find("drag") == std::string::npos);
+  CHECK(lg::summaryCsv(results).find("drag_peak[N]") != std::string::npos);
 }
