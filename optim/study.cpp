@@ -542,7 +542,9 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
     try {
       s.parameters.push_back(resolveParameter(s.scene, v.path, s.sceneFile));
       sceneValue = parameterValue(s.scene, s.parameters.back());
-      (void)getParameter(s.scene.doc, v.path, s.sceneFile);  // best.toml writes it: the file must hold the key
+      toml::table doc = s.scene.doc;  // best.toml writes it: the file must hold the key (a table's sample inline)
+      inlineTables(doc, s.scene, {v.path});
+      (void)getParameter(doc, v.path, s.sceneFile);
     } catch (const InputError& e) {
       r.fail("path", "'" + v.path + "' is not a numeric parameter of the scene (" + e.what() + ")");
     }

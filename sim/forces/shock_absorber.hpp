@@ -8,7 +8,8 @@
 //         + mu (p_1 - p_atm) F sgn_eps(sdot)         Coulomb friction, proportional to the gas force
 //                                                     (the seals carry p_1 - p_atm), sgn regularised:
 //                                                     sgn_eps(v) = v / sqrt(v^2 + eps^2)
-//         + xi_1 rho F^3   sdot|sdot| / (2 f_1^2)    main orifice (f_1 constant or f_1(s) table)
+//         + xi_1 rho F^3   sdot|sdot| / (2 f_1^2)    main orifice (f_1 constant or f_1(s) table: C1
+//                                                     Catmull-Rom through the samples f1_table[k])
 //         + xi_2 rho F_2^3 sdot|sdot| / (2 f_2^2)    rebound orifice (only if the scene declares f_2)
 //   F = pi D^2/4,  F_2 = pi (D_2^2 - D^2)/4
 // P_a > 0 pushes B away from C: +P_a e on the rod at B, -P_a e on the cylinder at C.
@@ -47,7 +48,8 @@ template <class S> struct ShockAbsorber {
   S mu;              // [-] friction coefficient
   S pAtm;            // [Pa] atmospheric pressure (0: off)
   double frictionVelocity = 1e-3;      // [m/s] eps of sgn_eps
-  std::shared_ptr<const Table1D> f1Table;  // [m -> m^2] metering pin f_1(s), or null
+  std::shared_ptr<const Table1D> f1Table;  // [m -> m^2] metering pin f_1(s), or null: its stroke grid
+  std::vector<S> f1Values;                 // [m^2] the table's areas (design parameters "f1_table[k]")
   bool reboundOrifice = false;             // the scene declares f2: the rebound-orifice term exists
 
   bool declaresReboundOrifice() const { return reboundOrifice; }
@@ -60,7 +62,7 @@ template <class S> struct ShockAbsorber {
 
   S area() const { return S(M_PI) * D * D / S(4); }
   S annularArea() const { return S(M_PI) * (D2 * D2 - D * D) / S(4); }
-  S mainOrifice(const S& s) const { return f1Table ? (*f1Table)(s) : f1; }
+  S mainOrifice(const S& s) const { return f1Table ? interpolate(*f1Table, f1Values, s) : f1; }
 
   Eval eval(const Kins<S>& K) const {
     Eval r;
@@ -141,6 +143,12 @@ template <class S> struct ShockAbsorber {
     if (key == "n") return &n;
     if (key == "rho") return &rho;
     if (key == "f1") return f1Table ? nullptr : &f1;
+    if (f1Table && key.rfind("f1_table[", 0) == 0 && key.back() == ']') {  // f1_table[k]: sample k, from 0
+      const std::string digits = key.substr(9, key.size() - 10);
+      if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos) return nullptr;
+      const size_t k = std::stoul(digits);
+      return k < f1Values.size() ? &f1Values[k] : nullptr;
+    }
     if (key == "f2") return reboundOrifice ? &f2 : nullptr;
     if (key == "xi1") return &xi1;
     if (key == "xi2") return &xi2;
@@ -150,7 +158,8 @@ template <class S> struct ShockAbsorber {
   }
   template <class T> ShockAbsorber<T> cast() const {
     return {bi, bj, castVec<T>(rho_i), castVec<T>(rho_j), T(L0), T(D), T(D2), T(p01), T(Omega0), T(n), T(rho),
-            T(f1), T(f2), T(xi1), T(xi2), T(mu), T(pAtm), frictionVelocity, f1Table, reboundOrifice};
+            T(f1), T(f2), T(xi1), T(xi2), T(mu), T(pAtm), frictionVelocity, f1Table,
+            std::vector<T>(f1Values.begin(), f1Values.end()), reboundOrifice};
   }
 };
 

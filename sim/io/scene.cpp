@@ -43,6 +43,21 @@ struct Pose {
   Mat3<double> R = Mat3<double>::Identity();
 };
 
+// A table's samples checked: at least 4, stroke increasing and uniformly spaced, every area > 0.
+std::shared_ptr<const Table1D> checkedTable(std::vector<double> x, std::vector<double> y, const std::string& source,
+                                            const TomlReader& r, const std::string& key, int firstRow) {
+  if (x.size() < 4) r.fail(key, "table '" + source + "' needs at least 4 rows of (stroke, area)");
+  const double dx = (x.back() - x.front()) / double(x.size() - 1);
+  if (!(dx > 0)) r.fail(key, "table '" + source + "': stroke must increase");
+  for (size_t i = 0; i < x.size(); ++i) {
+    if (std::abs(x[i] - (x.front() + dx * double(i))) > 1e-9 * std::max(1.0, std::abs(x.back())))
+      r.fail(key, "table '" + source + "': stroke must be uniformly spaced (row " + std::to_string(i + firstRow) + ")");
+    if (!(y[i] > 0))
+      r.fail(key, "table '" + source + "': area " + fmt(y[i]) + " at row " + std::to_string(i + firstRow) + " must be > 0");
+  }
+  return std::make_shared<Table1D>(std::move(x), std::move(y), source);
+}
+
 // Reads a two-column CSV table (header "stroke,area" or any two names) through fast-cpp-csv-parser.
 std::shared_ptr<const Table1D> readTable(const std::string& path, const TomlReader& r, const std::string& key) {
   std::vector<double> x, y;
@@ -60,15 +75,26 @@ std::shared_ptr<const Table1D> readTable(const std::string& path, const TomlRead
   } catch (const std::exception& e) {
     r.fail(key, "cannot read table '" + path + "': " + e.what());
   }
-  if (x.size() < 4) r.fail(key, "table '" + path + "' needs at least 4 rows of (stroke, area)");
-  const double dx = (x.back() - x.front()) / double(x.size() - 1);
-  if (!(dx > 0)) r.fail(key, "table '" + path + "': stroke must increase");
-  for (size_t i = 0; i < x.size(); ++i) {
-    if (std::abs(x[i] - (x.front() + dx * double(i))) > 1e-9 * std::max(1.0, std::abs(x.back())))
-      r.fail(key, "table '" + path + "': stroke must be uniformly spaced (row " + std::to_string(i + 2) + ")");
-    if (!(y[i] > 0)) r.fail(key, "table '" + path + "': area " + fmt(y[i]) + " at row " + std::to_string(i + 2) + " must be > 0");
+  return checkedTable(std::move(x), std::move(y), path, r, key, 2);
+}
+
+// An inline table: { stroke = [...] [m], area = [...] [m^2] } (what best.toml and calibrated.toml write
+// when a table's samples are design parameters).
+std::shared_ptr<const Table1D> inlineTable(const toml::table& t, const TomlReader& r, const std::string& key) {
+  for (auto&& [k, v] : t)
+    if (k.str() != "stroke" && k.str() != "area")
+      r.fail(key + "." + std::string(k.str()), "unknown key (an inline table has stroke = [...] and area = [...])");
+  std::vector<double> col[2];
+  const char* names[2] = {"stroke", "area"};
+  for (int c = 0; c < 2; ++c) {
+    const toml::array* a = t[names[c]].as_array();
+    if (!a) r.fail(key + "." + names[c], "must be an array of numbers");
+    for (const auto& e : *a) col[c].push_back(r.toNumber(e, key + "." + names[c]));
   }
-  return std::make_shared<Table1D>(std::move(x), std::move(y), path);
+  if (col[0].size() != col[1].size())
+    r.fail(key, "stroke has " + std::to_string(col[0].size()) + " samples and area " + std::to_string(col[1].size()) +
+                    ": they must pair up");
+  return checkedTable(std::move(col[0]), std::move(col[1]), "inline", r, key, 1);
 }
 
 // The joints' rows must be independent at touchdown: a joint whose row is a combination of earlier
@@ -334,12 +360,17 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       if (!(s.n > 1)) r.fail("n", "polytropic exponent " + fmt(s.n) + " must be > 1");
       s.rho = r.positive("rho");
       s.xi1 = r.positive("xi1");
-      if (r.has("f1") == r.has("f1_table")) r.fail("f1", "give exactly one of f1 (constant area) and f1_table (CSV file)");
+      if (r.has("f1") == r.has("f1_table")) r.fail("f1", "give exactly one of f1 (constant area) and f1_table (CSV file or inline table)");
       s.f1 = r.has("f1") ? r.positive("f1") : 0.0;
       if (r.has("f1_table")) {
-        std::filesystem::path tp(r.string("f1_table"));
-        if (tp.is_relative()) tp = std::filesystem::path(baseDir) / tp;
-        s.f1Table = readTable(tp.string(), r, "f1_table");
+        if (const toml::table* inl = r.get("f1_table")->as_table()) {
+          s.f1Table = inlineTable(*inl, r, "f1_table");
+        } else {
+          std::filesystem::path tp(r.string("f1_table"));
+          if (tp.is_relative()) tp = std::filesystem::path(baseDir) / tp;
+          s.f1Table = readTable(tp.string(), r, "f1_table");
+        }
+        s.f1Values = s.f1Table->ys();
         if (s.f1Table->xMin() > 0) r.fail("f1_table", "table must start at stroke <= 0");
       }
       s.f2 = r.has("f2") ? r.positive("f2") : 0.0;
@@ -508,13 +539,36 @@ void splitPath(const std::string& path, std::string& element, std::string& key, 
 }
 }  // namespace
 
-double getParameter(const toml::table& doc, const std::string& path, const std::string& where) {
+namespace {
+// "f1_table[3]" -> ("f1_table", 3); any other key -> (key, -1).
+std::pair<std::string, long> indexedKey(const std::string& key) {
+  const auto open = key.find('[');
+  if (open == std::string::npos || open == 0 || key.back() != ']') return {key, -1};
+  const std::string digits = key.substr(open + 1, key.size() - open - 2);
+  if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos) return {key, -1};
+  return {key.substr(0, open), std::stol(digits)};
+}
+// The node of a parameter: a number, or the area sample of an inline table.
+toml::node* parameterNode(toml::table& doc, const std::string& path, const std::string& where) {
   std::string element, key;
   splitPath(path, element, key, where);
-  toml::table* t = findElement(const_cast<toml::table&>(doc), element);
+  toml::table* t = findElement(doc, element);
   if (!t) throw InputError(where, 0, path, "no body, joint, stop, force or case named '" + element + "' in the scene");
-  const toml::node* n = t->get(key);
-  if (!n) throw InputError(where, 0, path, "element '" + element + "' has no key '" + key + "' in the scene");
+  const auto [base, k] = indexedKey(key);
+  toml::node* n = t->get(base);
+  if (!n) throw InputError(where, 0, path, "element '" + element + "' has no key '" + base + "' in the scene");
+  if (k < 0) return n;
+  if (n->is_string())
+    throw InputError(where, 0, path, "'" + element + "." + base + "' is a table file: inline it first (inlineTables)");
+  toml::array* area = n->is_table() ? (*n->as_table())["area"].as_array() : nullptr;
+  if (!area || k >= static_cast<long>(area->size()))
+    throw InputError(where, 0, path, "'" + element + "." + base + "' has no sample " + std::to_string(k));
+  return area->get(static_cast<size_t>(k));
+}
+}  // namespace
+
+double getParameter(const toml::table& doc, const std::string& path, const std::string& where) {
+  const toml::node* n = parameterNode(const_cast<toml::table&>(doc), path, where);
   if (auto v = n->value<double>()) return *v;
   throw InputError(where, 0, path, "'" + path + "' is not a number in the scene");
 }
@@ -523,8 +577,37 @@ void setParameter(toml::table& doc, const std::string& path, double value, const
   (void)getParameter(doc, path, where);
   std::string element, key;
   splitPath(path, element, key, where);
+  const auto [base, k] = indexedKey(key);
+  if (k >= 0) {
+    *parameterNode(doc, path, where)->as_floating_point() = value;
+    return;
+  }
   toml::table* t = findElement(doc, element);
   t->insert_or_assign(key, value);
+}
+
+bool tableSample(const std::string& path) {
+  const auto dot = path.rfind('.');
+  return dot != std::string::npos && indexedKey(path.substr(dot + 1)).second >= 0;
+}
+
+void inlineTables(toml::table& doc, const Scene& scene, const std::vector<std::string>& paths) {
+  for (const std::string& path : paths) {
+    if (!tableSample(path)) continue;
+    const auto dot = path.rfind('.');
+    const std::string element = path.substr(0, dot), base = indexedKey(path.substr(dot + 1)).first;
+    toml::table* t = findElement(doc, element);
+    const int f = scene.model.forceIndex(element);
+    if (!t || f < 0 || !t->get(base) || !t->get(base)->is_string()) continue;
+    const auto* sa = std::get_if<ShockAbsorber<double>>(&scene.model.forces[static_cast<size_t>(f)].type);
+    if (!sa || !sa->f1Table || base != "f1_table") continue;
+    toml::array stroke, area;
+    for (double x : sa->f1Table->xs()) stroke.push_back(x);
+    for (double y : sa->f1Values) area.push_back(y);
+    toml::table inl{{"stroke", std::move(stroke)}, {"area", std::move(area)}};
+    inl.is_inline(true);
+    t->insert_or_assign(base, std::move(inl));
+  }
 }
 
 std::string toTomlString(const toml::table& doc) {

@@ -123,6 +123,19 @@ TEST_CASE("gradient: the telescopic gear against central differences", "[gradien
               tally.worstPeakTime);
 }
 
+// Table values as parameters: samples of the metering pin f_1(s) (the interpolant carries their
+// derivatives), early, mid and late in the stroke, on the limit and reserve drops.
+TEST_CASE("gradient: the metering pin's samples against central differences", "[gradient][metering_pin]") {
+  const lg::Scene sc = tightScene(lgtest::shippedDoc("data/seed_gear_metering_pin.toml"));
+  Tally tally;
+  for (const char* name : {"limit", "reserve"})
+    compare(std::string("metering pin ") + name, sc, lgtest::findCase(sc, name),
+            {"strut.f1_table[2]", "strut.f1_table[8]", "strut.f1_table[16]", "strut.f1_table[24]"}, tally);
+  CHECK(tally.compared > 80);
+  std::printf("gradient: %d derivatives in the metering pin's samples within %.1e (t_peak %.1e)\n", tally.compared,
+              tally.worst, tally.worstPeakTime);
+}
+
 namespace {
 // The interior local maxima of P_y(t) of a recorded run, in time order.
 std::vector<double> loadHumps(const lg::Scene& sc, const lg::DropCase& c) {
