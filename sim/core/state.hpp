@@ -43,10 +43,15 @@ struct StageTimer {
   std::array<long, kStageCount> calls{};
 };
 
-// One term of J M^-1 J^T: A(row, col) += J_k(side) . W_l(side), row >= col being positions in the
-// factor's elimination order (see assembleA). The sides are those of the term's group in pairs.
+// One term of J M^-1 J^T: A[target] += J_k(side) . W_l(side), target being the flat index of the
+// entry in the solver's storage (see assembleA). The sides are those of the term's group in pairs.
 struct PairTerm {
-  int row, col, k, l;
+  int target, k, l;
+};
+
+// One update of the supernodal factor: L[dst] -= L[a .. a + width) . L[b .. b + width) (flat indices).
+struct FactorUpdate {
+  int dst, a, b;
 };
 
 // What the last multiplier solve reports.
@@ -85,6 +90,13 @@ template <class S> struct Workspace {
   std::array<int, 5> pairGroup{};    // of the two rows: terms [pairGroup[g], pairGroup[g+1]) have sides (g/2, g%2)
   std::vector<int> order, pos;       // elimination order of the factor (order[t]: list index; pos: inverse)
   std::vector<int> below, belowStart;  // symbolic factor: the positions t' > t with L(t', t) != 0
+  std::vector<int> envFirst, envStart;  // envelope of the direct factor: row t holds L(t, envFirst[t]..t) from L[envStart[t]]
+  VecX<S> L, invDiag;                // the packed envelope (A, then its factor), 1 / L(t, t)
+  std::vector<int> superStart;       // supernodes: runs of columns [superStart[K], superStart[K+1]) sharing their structure
+  std::vector<int> rowAt;            // flat index of L(i, first column of i's supernode)
+  std::vector<int> superRows, superRowAt, superRowStart;  // the rows below each supernode, flat index of L(r, c0)
+  std::vector<FactorUpdate> updates;  // the updates of each supernode, [updateStart[K], updateStart[K+1])
+  std::vector<int> updateStart;
   VecX<S> permTmp;                   // a right-hand side in elimination order
   SolveReport report;
   StageTimer timer;
@@ -124,6 +136,19 @@ template <class S> struct Workspace {
     below.reserve(static_cast<size_t>(R * R));
     belowStart.reserve(R + 1);
     permTmp = VecX<S>::Zero(R);
+    envFirst.reserve(R);
+    envStart.reserve(R + 1);
+    envStart.assign(1, 0);  // the structure of an empty row list (analyseA rebuilds it when the list changes)
+    L = VecX<S>::Zero(R * (R + 1) / 2);
+    invDiag = VecX<S>::Zero(R);
+    superStart.reserve(R + 1);
+    superStart.assign(1, 0);
+    rowAt.reserve(R);
+    superRows.reserve(static_cast<size_t>(R * R));
+    superRowAt.reserve(static_cast<size_t>(R * R));
+    superRowStart.reserve(R + 1);
+    updates.reserve(static_cast<size_t>(R * (R + 1) / 2 * R));
+    updateStart.reserve(R + 1);
   }
   Kins<S> kins() const { return {kin.data(), static_cast<int>(kin.size()) - 1}; }
 };
