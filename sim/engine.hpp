@@ -67,12 +67,20 @@ template <class S> void forces(const Model<S>& m, Workspace<S>& w) {
 }
 
 // ---- stage: constraint rows ----------------------------------------------------------------------
+// Every row at the current kinematics: the constraints', then the friction locks of the force elements
+// (written whether enforced or not: a slipping lock's J V is the rate its slip event watches).
 template <class S> void constraintRows(const Model<S>& m, Workspace<S>& w) {
   ScopedStage timer(w.timer, kRows, m.settings.profile);
   const Kins<S> K = w.kins();
   for (size_t c = 0; c < m.constraints.size(); ++c) {
     Row<S>* rows = w.rows.data() + m.rowOffset[c];
     std::visit([&](const auto& con) { con.write(K[con.bi], K[con.bj], rows); }, m.constraints[c].type);
+  }
+  for (size_t f = 0; f < m.forces.size(); ++f) {
+    if (m.lockRow[f] < 0) continue;
+    Row<S>& row = w.rows[m.lockRow[f]];
+    std::visit([&](const auto& e) { if constexpr (requires { e.writeLock(K, row); }) e.writeLock(K, row); },
+               m.forces[f].type);
   }
 }
 
@@ -118,6 +126,7 @@ template <class S> bool multipliers(const Model<S>& m, const std::vector<char>& 
   const bool ok = solveEquality(m, w, false);
   for (int k = 0; k < m.nRows; ++k) lambdaAll[k] = S(0);
   for (size_t a = 0; a < w.list.size(); ++a) lambdaAll[w.list[a]] = w.lam[a];
+  w.rowLambda = lambdaAll;
   return ok;
 }
 
@@ -306,8 +315,11 @@ template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w)
 // the kinetic energy it removes is booked as dissipated. Then the acceleration-level LCP decides
 // which candidates stay enforced (lambda > 0) and which separate.
 // Returns the number of stops whose mode changed, or -1 on a solver failure.
+template <class S> int resolveFriction(const Model<S>& m, State<S>& s, Workspace<S>& w);
+
 template <class S> int resolveContacts(const Model<S>& m, State<S>& s, Workspace<S>& w) {
   ScopedStage timer(w.timer, kEvents, m.settings.profile);
+  w.slip = s.slip;
   kinematics(m, s.y, w);
   forces(m, w);
   constraintRows(m, w);
@@ -329,12 +341,15 @@ template <class S> int resolveContacts(const Model<S>& m, State<S>& s, Workspace
     int changed = 0;
     for (int k = 0; k < m.nRows; ++k)
       if (m.rowInfo[k].unilateral && s.active[k]) { s.active[k] = 0; ++changed; }
-    return changed;
+    const int fr = resolveFriction(m, s, w);
+    return fr < 0 ? -1 : changed + fr;
   }
+  // The stops are decided without the friction locks (a stop between the strut's own bodies would
+  // repeat a lock's row); resolveFriction then decides the locks given the stops.
   auto buildList = [&]() {
     w.list.clear();
     for (int k = 0; k < m.nRows; ++k)
-      if (!m.rowInfo[k].unilateral || w.candidate[k]) w.list.push_back(k);
+      if (!m.rowInfo[k].friction() && (!m.rowInfo[k].unilateral || w.candidate[k])) w.list.push_back(k);
     computeW(m, w);
     assembleA(m, w);
   };
@@ -359,14 +374,90 @@ template <class S> int resolveContacts(const Model<S>& m, State<S>& s, Workspace
   int changed = 0;
   for (int k = 0; k < m.nRows; ++k)
     if (m.rowInfo[k].unilateral && !w.candidate[k] && s.active[k]) { s.active[k] = 0; ++changed; }
+  // A stop whose multiplier is zero to round-off (relative to the largest of the solve) is not
+  // enforced: a strut whose friction just reached its bound leaves its stop with the stop's reaction
+  // exactly zero.
+  double lamScale = 0;
+  for (size_t a = 0; a < w.list.size(); ++a) lamScale = std::max(lamScale, std::abs(value(w.lam[a])));
   for (size_t a = 0; a < w.list.size(); ++a) {
     const int k = w.list[a];
     if (!m.rowInfo[k].unilateral) continue;
-    const char on = value(w.lam[a]) > 0 ? 1 : 0;
+    const char on = value(w.lam[a]) > 1e-12 * lamScale ? 1 : 0;
     if (on != s.active[k]) ++changed;
     s.active[k] = on;
     s.lambda[k] = w.lam[a];
   }
+  const int fr = resolveFriction(m, s, w);
+  return fr < 0 ? -1 : changed + fr;
+}
+
+// ---- friction modes (sim/forces/friction_lock.hpp) ------------------------------------------------
+// The friction bound F_max of lock row k at the current kinematics.
+template <class S> S frictionBound(const Model<S>& m, const Workspace<S>& w, int k) {
+  const Kins<S> K = w.kins();
+  return std::visit(
+      [&](const auto& e) -> S {
+        if constexpr (requires { e.frictionBound(K); }) return e.frictionBound(K);
+        else return S(0);
+      },
+      m.forces[m.rowInfo[k].force].type);
+}
+
+// Is lock row k held by an enforced stop between the same two bodies?
+template <class S> bool frictionHeld(const Model<S>& m, const State<S>& s, int k) {
+  const RowInfo& f = m.rowInfo[k];
+  for (int r = 0; r < m.nRows; ++r) {
+    const RowInfo& ri = m.rowInfo[r];
+    if (ri.unilateral && s.active[r] && ((ri.bi == f.bi && ri.bj == f.bj) || (ri.bi == f.bj && ri.bj == f.bi)))
+      return true;
+  }
+  return false;
+}
+
+// Sets the slip direction of lock row k in the state and in the workspace's copy (what the force
+// elements read).
+template <class S> void setSlip(State<S>& s, Workspace<S>& w, int k, int sigma) {
+  s.slip[k] = static_cast<signed char>(sigma);
+  w.slip[k] = static_cast<signed char>(sigma);
+}
+
+// Decides the mode of every friction lock that is at rest and undecided (not stuck, not slipping: its
+// rate stopped, its stop let go, or the run starts), and holds the locks of struts whose stop is
+// enforced. A lock at rest sticks if the acceleration-level problem with it enforced needs
+// |lambda| <= F_max, else it slips with sigma = -sgn(lambda). Kinematics, forces and rows must be
+// current. Returns the number of locks whose mode changed, or -1 on a solver failure.
+template <class S> int resolveFriction(const Model<S>& m, State<S>& s, Workspace<S>& w) {
+  int changed = 0;
+  for (size_t f = 0; f < m.forces.size(); ++f) {
+    const int k = m.lockRow[f];
+    if (k < 0) continue;
+    if (frictionHeld(m, s, k)) {
+      if (s.active[k] || s.slip[k]) ++changed;
+      s.active[k] = 0;
+      setSlip(s, w, k, 0);
+      continue;
+    }
+    if (s.active[k] || s.slip[k]) continue;  // stuck or slipping: its events decide
+    const double rate = value(rowVelocity(m, w, k));
+    if (std::abs(rate) > 1e-6) {  // [m/s] not at rest after all: it slips the way it moves
+      setSlip(s, w, k, rate > 0 ? 1 : -1);
+      ++changed;
+      continue;
+    }
+    s.active[k] = 1;  // try to stick
+    forces(m, w);                            // (the lock's friction term is off while it is tried)
+    if (!multipliers(m, s.active, s.lambda, w)) return -1;
+    const S lam = s.lambda[k];
+    if (std::abs(value(lam)) <= value(frictionBound(m, w, k))) {
+      ++changed;
+      continue;
+    }
+    s.active[k] = 0;
+    s.lambda[k] = S(0);
+    setSlip(s, w, k, value(lam) > 0 ? -1 : 1);
+    ++changed;
+  }
+  if (changed) forces(m, w);
   return changed;
 }
 

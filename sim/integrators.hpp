@@ -69,22 +69,32 @@ template <class S> struct DenseOutput {
 
 // Event functions at the current workspace (rows, multipliers and force events must be current):
 // free stop: C + contactTolerance |dC/dp| (it triggers on reaching the contact band, so a stop that was
-// let go at C = 0 is still watched); enforced stop: lambda; bilateral row: 0 (never triggers); then the force events.
+// let go at C = 0 is still watched); enforced stop: lambda; friction lock: F_max - |lambda| while stuck,
+// sigma sdot while slipping, 0 while held; bilateral row: 0 (never triggers); then the force events.
 template <class S>
 void eventFunctions(const Model<S>& m, const State<S>& s, const VecX<S>& lambda, const Workspace<S>& w, VecX<S>& g) {
   const S shift(m.settings.contactTolerance);
   for (int k = 0; k < m.nRows; ++k) {
-    if (!m.rowInfo[k].unilateral) g[k] = S(0);
-    else if (s.active[k]) g[k] = lambda[k];
-    else g[k] = w.rows[k].C + shift * w.rows[k].Ji.template head<3>().norm();
+    const RowInfo& ri = m.rowInfo[k];
+    if (ri.friction()) {
+      if (s.active[k]) g[k] = frictionBound(m, w, k) - (value(lambda[k]) < 0 ? -lambda[k] : lambda[k]);
+      else g[k] = S(s.slip[k]) * rowVelocity(m, w, k);
+    } else if (!ri.unilateral) {
+      g[k] = S(0);
+    } else if (s.active[k]) {
+      g[k] = lambda[k];
+    } else {
+      g[k] = w.rows[k].C + shift * w.rows[k].Ji.template head<3>().norm();
+    }
   }
   for (int e = 0; e < m.nForceEvents; ++e) g[m.nRows + e] = w.forceEvents[e];
 }
 
-// Does event function i trigger between g0 and g1, and is g on its "after" side?
+// Does event function i trigger between g0 and g1, and is g on its "after" side? Stops and friction
+// locks alike: an enforced row whenever its function ends negative, a free one on crossing zero.
 template <class S> bool eventTriggered(const Model<S>& m, const State<S>& s, int i, double g0, double g1) {
   if (i < m.nRows) {
-    if (!m.rowInfo[i].unilateral) return false;
+    if (!m.rowInfo[i].unilateral && !m.rowInfo[i].friction()) return false;
     return s.active[i] ? (g1 < 0) : (g0 > 0 && g1 <= 0);
   }
   return g0 * g1 < 0;
@@ -203,6 +213,7 @@ template <class S> class Integrator {
     RunStatus st;
     const Settings& cfg = m_.settings;
     w_.needDampingResponse = isRosenbrock(cfg.integrator);
+    w_.slip = s_.slip;
     // Initial contact modes (and impacts if a stop starts approaching), then a consistent state.
     if (resolveContacts(m_, s_, w_) < 0) return fail(st, "contact solve failed at the start");
     if (cfg.stabilization != Stabilization::None && !project(m_, s_, w_))
@@ -315,9 +326,20 @@ template <class S> class Integrator {
     }
     dense.at(te, s_.y);
     s_.t = te;
-    // Act on it: a stop whose multiplier would pull is let go; then the contact modes are resolved
-    // (impacts for a stop arriving) for every stop at once.
-    if (first < m_.nRows && s_.active[first] && value(w_.g1[first]) < 0) s_.active[first] = 0;
+    // Act on it: a stop whose multiplier would pull is let go; a stuck friction lock whose reaction
+    // reached its bound slips (against the reaction); a slipping one that stopped is at rest. Then the
+    // contact modes are resolved (impacts for a stop arriving) for every stop at once, and the friction
+    // locks at rest are decided.
+    if (first < m_.nRows && m_.rowInfo[first].friction()) {
+      if (s_.active[first]) {
+        s_.active[first] = 0;
+        setSlip(s_, w_, first, value(w_.lamTmp[first]) > 0 ? -1 : 1);
+      } else {
+        setSlip(s_, w_, first, 0);
+      }
+    } else if (first < m_.nRows && s_.active[first] && value(w_.g1[first]) < 0) {
+      s_.active[first] = 0;
+    }
     if (resolveContacts(m_, s_, w_) < 0) return false;
     if (m_.settings.stabilization != Stabilization::None && !project(m_, s_, w_)) return false;
     return true;
@@ -656,16 +678,30 @@ template <class S> class Integrator {
     normalizeQuaternions(m_, s_.y);
     if (!refresh()) return failNonFinite(st);
     w_.g1 = w_.g0;
-    // Events at the step's end: a stop that arrived or would pull; then stabilise.
+    // Events at the step's end: a stop that arrived or would pull, a friction lock past its bound or a
+    // slip that reversed; then stabilise.
     bool any = false;
     for (int i = 0; i < m_.nRows; ++i) {
+      if (m_.rowInfo[i].friction()) {
+        if (value(w_.g1[i]) < 0) any = true;
+        continue;
+      }
       if (!m_.rowInfo[i].unilateral) continue;
       if (s_.active[i] ? value(s_.lambda[i]) < 0 : value(w_.rows[i].C) <= 0) any = true;
     }
     if (any) {
       ++st.events;
-      for (int i = 0; i < m_.nRows; ++i)
+      for (int i = 0; i < m_.nRows; ++i) {
+        if (m_.rowInfo[i].friction() && value(w_.g1[i]) < 0) {
+          if (s_.active[i]) {
+            s_.active[i] = 0;
+            setSlip(s_, w_, i, value(s_.lambda[i]) > 0 ? -1 : 1);
+          } else {
+            setSlip(s_, w_, i, 0);
+          }
+        }
         if (m_.rowInfo[i].unilateral && s_.active[i] && value(s_.lambda[i]) < 0) s_.active[i] = 0;
+      }
       if (resolveContacts(m_, s_, w_) < 0) {
         fail(st, "contact solve failed");
         return false;

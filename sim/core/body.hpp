@@ -51,11 +51,16 @@ template <class S> struct BodyKin {
   }
 };
 
-// Kinematics of all bodies, with index -1 (kGround) mapping to the ground.
+// Kinematics of all bodies, with index -1 (kGround) mapping to the ground, and the modes of the
+// friction-lock rows (sim/forces/friction_lock.hpp) that the force elements with exact friction read.
 template <class S> struct Kins {
   const BodyKin<S>* k;  // n bodies followed by the ground
   int n;
+  const signed char* slip = nullptr;  // per row: the slip direction of a friction lock (+1, -1, 0: none)
+  const S* lambda = nullptr;          // per row: the multiplier of the last solve (0 where not enforced)
   const BodyKin<S>& operator[](int b) const { return b < 0 ? k[n] : k[b]; }
+  int slipOf(int row) const { return (slip && row >= 0) ? slip[row] : 0; }
+  S lambdaOf(int row) const { return (lambda && row >= 0) ? lambda[row] : S(0); }
 };
 
 // Resultant force and moment on each body (world), accumulated by the force elements.

@@ -42,8 +42,9 @@ template <class S> struct Model {
   Settings settings;
 
   // Derived once by finalize(): the row table and the sizes of the state.
-  std::vector<RowInfo> rowInfo;   // one per scalar constraint row
+  std::vector<RowInfo> rowInfo;   // one per scalar constraint row, then the force elements' friction locks
   std::vector<int> rowOffset;     // first row of each constraint
+  std::vector<int> lockRow;       // per force element: its friction-lock row, or -1
   std::vector<int> dissipationOffset, eventOffset, outputOffset, dampingOffset;  // per force element
   int nRows = 0, nDissipation = 0, nForceEvents = 0, nOutputs = 0, nDamping = 0;
   std::vector<std::string> outputNames;  // "<element>.<channel>"
@@ -60,6 +61,20 @@ template <class S> struct Model {
       rowOffset.push_back(static_cast<int>(rowInfo.size()));
       for (int k = 0; k < constraints[c].rows(); ++k)
         rowInfo.push_back({constraints[c].bodyI(), constraints[c].bodyJ(), constraints[c].unilateral(), c});
+    }
+    // A force element with exact Coulomb friction (stick/slip) owns one row: the lock that holds its
+    // rate at zero while it sticks (enforced only then; see sim/forces/friction_lock.hpp).
+    lockRow.assign(forces.size(), -1);
+    for (int f = 0; f < static_cast<int>(forces.size()); ++f) {
+      const FrictionLockInfo li = forces[f].frictionLock();
+      forces[f].setLockRow(li.present ? static_cast<int>(rowInfo.size()) : -1);
+      if (!li.present) continue;
+      lockRow[f] = static_cast<int>(rowInfo.size());
+      RowInfo ri;
+      ri.bi = li.bi;
+      ri.bj = li.bj;
+      ri.force = f;
+      rowInfo.push_back(ri);
     }
     nRows = static_cast<int>(rowInfo.size());
     dissipationOffset.clear();

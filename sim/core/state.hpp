@@ -15,13 +15,15 @@ template <class S> struct State {
   S t = S(0);                // [s]
   VecX<S> y;                 // see above; r [m], q [-], v [m/s], omega [rad/s], z [J]
   VecX<S> lambda;            // multipliers of every row (last solve; warm start of Gauss-Seidel)
-  std::vector<char> active;  // per row: 1 if it is enforced (bilateral rows always; stops in contact)
+  std::vector<char> active;  // per row: 1 if it is enforced (bilateral rows always; stops in contact;
+                             // friction locks while stuck)
+  std::vector<signed char> slip;  // per friction-lock row: slip direction +1 / -1, 0 if not slipping
   S impactLoss = S(0);       // [J] kinetic energy removed by plastic impacts
 
   explicit State(const Model<S>& m = Model<S>())
-      : y(VecX<S>::Zero(m.ny())), lambda(VecX<S>::Zero(m.nRows)), active(m.nRows, 1) {
+      : y(VecX<S>::Zero(m.ny())), lambda(VecX<S>::Zero(m.nRows)), active(m.nRows, 1), slip(m.nRows, 0) {
     for (int b = 0; b < m.nBodies(); ++b) y[7 * b + 3] = S(1);
-    for (int k = 0; k < m.nRows; ++k) active[k] = m.rowInfo[k].unilateral ? 0 : 1;
+    for (int k = 0; k < m.nRows; ++k) active[k] = (m.rowInfo[k].unilateral || m.rowInfo[k].friction()) ? 0 : 1;
   }
 
   // Accessors for body b of a model with N bodies.
@@ -70,6 +72,9 @@ template <class S> struct Workspace {
   std::vector<int> list;             // the rows in the current solve
   MatX<S> A;                         // J M^-1 J^T over 'list'
   VecX<S> b, lam, work;              // right-hand side, multipliers, scratch
+  VecX<S> rowLambda;                 // per row: the multipliers of the last solve (0 where not enforced)
+  std::vector<signed char> slip;     // per row: the friction modes of the run's state (State::slip), read by
+                                     // the force elements through Kins (set by setFrictionModes)
   VecX<S> dissipation;               // dissipation rate per channel [W]
   VecX<S> forceEvents;               // force-element event functions
   VecX<S> outputs;                   // named outputs of the force elements
@@ -113,6 +118,8 @@ template <class S> struct Workspace {
     list.reserve(R);
     A = MatX<S>::Zero(R, R);
     b = lam = work = VecX<S>::Zero(R);
+    rowLambda = VecX<S>::Zero(R);
+    slip.assign(R, 0);
     dissipation = VecX<S>::Zero(m.nDissipation);
     forceEvents = VecX<S>::Zero(m.nForceEvents);
     outputs = VecX<S>::Zero(m.nOutputs);
@@ -150,7 +157,7 @@ template <class S> struct Workspace {
     updates.reserve(static_cast<size_t>(R * (R + 1) / 2 * R));
     updateStart.reserve(R + 1);
   }
-  Kins<S> kins() const { return {kin.data(), static_cast<int>(kin.size()) - 1}; }
+  Kins<S> kins() const { return {kin.data(), static_cast<int>(kin.size()) - 1, slip.data(), rowLambda.data()}; }
 };
 
 // Times a stage when the model asks for profiling; costs one branch otherwise.

@@ -273,7 +273,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       f.type = ConstantForce<double>{bodyRef(r, "body", false), r.vec3("force")};
     } else if (type == "shock_absorber") {
       r.allowOnly({"name", "type", "rod", "cylinder", "rod_point", "cylinder_point", "L0", "D", "D2", "p01", "Omega0",
-                   "n", "rho", "f1", "f1_table", "f2", "xi1", "xi2", "mu", "p_atm", "friction_velocity"});
+                   "n", "rho", "f1", "f1_table", "f2", "xi1", "xi2", "mu", "p_atm", "friction", "friction_velocity"});
       ShockAbsorber<double> s;
       s.bi = bodyRef(r, "rod");
       s.bj = bodyRef(r, "cylinder");
@@ -305,6 +305,12 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       s.mu = r.nonNegative("mu", 0.0);
       s.pAtm = r.nonNegative("p_atm", 0.0);
       if (!(s.pAtm < s.p01)) r.fail("p_atm", "value " + fmt(s.pAtm) + " must be < p01 = " + fmt(s.p01) + " (the gas must push the rod out)");
+      const std::string law = r.string("friction", "regularised");
+      if (law != "coulomb" && law != "regularised")
+        r.fail("friction", "value '" + law + "' must be \"coulomb\" (exact stick/slip) or \"regularised\"");
+      s.coulomb = law == "coulomb";
+      if (s.coulomb && r.has("friction_velocity"))
+        r.fail("friction_velocity", "applies to friction = \"regularised\" only (this strut's friction is \"coulomb\")");
       s.frictionVelocity = r.positive("friction_velocity", 1e-3);
       if (s.f1Table) {
         // The table must cover every stroke the strut can reach: up to a "no nearer" stop between the
