@@ -18,6 +18,7 @@
 
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 #include "sim/engine.hpp"
 
@@ -309,8 +310,9 @@ template <class S> class Integrator {
     ++st.events;
     ScopedStage timer(w_.timer, kEvents, m_.settings.profile);
     // The event time carries the derivatives of g (one Newton correction in S); its value is tFirst.
+    // (For double there are no derivatives: only a stuck friction lock needs its reaction's sign there.)
     S te = S(tFirst);
-    {
+    if constexpr (!std::is_same_v<S, double>) {
       dense.at(te, w_.ytmp);
       w_.lamTmp = s_.lambda;
       evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);
@@ -323,6 +325,10 @@ template <class S> class Integrator {
       eventFunctions(m_, s_, w_.lamTmp, w_, w_.g2);
       const double slope = (ga - value(w_.g2[first])) / dt;
       if (std::abs(slope) > 0) te -= derivativePart(w_.gtmp[first]) / S(slope);
+    } else if (first < m_.nRows && m_.rowInfo[first].friction() && s_.active[first]) {
+      dense.at(te, w_.ytmp);
+      w_.lamTmp = s_.lambda;
+      evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);
     }
     dense.at(te, s_.y);
     s_.t = te;
@@ -345,6 +351,36 @@ template <class S> class Integrator {
     return true;
   }
 
+  // Does event function i need the multipliers (an enforced stop or a stuck friction lock), or only
+  // the positions and velocities (a free stop's C, a slip's rate, a force element's event)?
+  bool eventNeedsSolve(int i) const { return i < m_.nRows && s_.active[i]; }
+
+  // Event function i on the dense output at time t. Those of positions and velocities need the poses
+  // and one row or one element only; the others a full evaluation.
+  double eventValueAt(const DenseOutput<S>& dense, int i, double t) {
+    dense.at(S(t), w_.ytmp);
+    if (eventNeedsSolve(i)) {
+      evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);
+      eventFunctions(m_, s_, w_.lamTmp, w_, w_.gtmp);
+      return value(w_.gtmp[i]);
+    }
+    poses(m_, w_.ytmp, w_);
+    const Kins<S> K = w_.kins();
+    if (i >= m_.nRows) {
+      const int e = i - m_.nRows;
+      for (size_t f = 0; f < m_.forces.size(); ++f) {
+        const int first = m_.eventOffset[f], count = (f + 1 < m_.forces.size() ? m_.eventOffset[f + 1] : m_.nForceEvents) - first;
+        if (e < first || e >= first + count) continue;
+        std::visit([&](const auto& el) { el.events(K, w_.forceEvents.data() + first); }, m_.forces[f].type);
+        return value(w_.forceEvents[e]);
+      }
+      return 0.0;
+    }
+    constraintRows(m_, w_);  // (all rows: one constraint's would do, the lock rows come last)
+    if (m_.rowInfo[i].friction()) return value(S(s_.slip[i]) * rowVelocity(m_, w_, i));
+    return value(w_.rows[i].C + S(m_.settings.contactTolerance) * w_.rows[i].Ji.template head<3>().norm());
+  }
+
   // Earliest root of event function i on the dense output (Illinois), returned on its "after" side.
   double locate(const DenseOutput<S>& dense, int i) {
     ScopedStage timer(w_.timer, kEvents, m_.settings.profile);
@@ -360,10 +396,7 @@ template <class S> class Integrator {
     for (int it = 0; it < 200 && tb - ta > m_.settings.eventTolerance; ++it) {
       double tc = (ga == gb) ? 0.5 * (ta + tb) : tb - gb * (tb - ta) / (gb - ga);
       if (!(tc > ta && tc < tb)) tc = 0.5 * (ta + tb);
-      dense.at(S(tc), w_.ytmp);
-      evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);
-      eventFunctions(m_, s_, w_.lamTmp, w_, w_.gtmp);
-      const double gc = value(w_.gtmp[i]);
+      const double gc = eventValueAt(dense, i, tc);
       if (after(gc)) {
         tb = tc;
         gb = gc;
