@@ -61,8 +61,13 @@ template <class S> void forces(const Model<S>& m, Workspace<S>& w) {
         m.forces[f].type);
   }
   for (int b = 0; b < N; ++b) {
-    w.aFree[b].template head<3>() = w.kin[b].invMass * w.wrench[b].template head<3>();
-    w.aFree[b].template tail<3>() = w.kin[b].IwInv * w.wrench[b].template tail<3>();
+    const BodyKin<S>& K = w.kin[b];
+    if (K.mobility == kFree) {
+      w.aFree[b].template head<3>() = K.invMass * w.wrench[b].template head<3>();
+      w.aFree[b].template tail<3>() = K.IwInv * w.wrench[b].template tail<3>();
+    } else {
+      w.aFree[b] = K.invMassTimes(w.wrench[b].template head<3>(), w.wrench[b].template tail<3>());
+    }
   }
 }
 
@@ -73,6 +78,7 @@ template <class S> void constraintRows(const Model<S>& m, Workspace<S>& w) {
   ScopedStage timer(w.timer, kRows, m.settings.profile);
   const Kins<S> K = w.kins();
   for (size_t c = 0; c < m.constraints.size(); ++c) {
+    if (m.rowOffset[c] < 0) continue;  // a joint to the ground eliminated into its body's mobility
     Row<S>* rows = w.rows.data() + m.rowOffset[c];
     std::visit([&](const auto& con) { con.write(K[con.bi], K[con.bj], rows); }, m.constraints[c].type);
   }
@@ -145,8 +151,7 @@ template <class S> void dampingResponse(const Model<S>& m, Workspace<S>& w) {
     for (auto& z : w.zb) z.setZero();
     auto addBody = [&](int b, const Vec6<S>& G) {
       if (b < 0) return;
-      w.zb[b].template head<3>() += w.kin[b].invMass * G.template head<3>();
-      w.zb[b].template tail<3>() += w.kin[b].IwInv * G.template tail<3>();
+      w.zb[b] += w.kin[b].invMassTimes(G.template head<3>(), G.template tail<3>());
     };
     addBody(d.bi, d.Gi);
     addBody(d.bj, d.Gj);
@@ -247,6 +252,19 @@ template <class S> void applyCorrection(const Model<S>& m, Workspace<S>& w, VecX
   }
 }
 
+// Puts the velocity of every guided or immobile body (Model::finalize) in its subspace: v along its axis
+// (the mass-weighted projection: translation only, isotropic mass), no rotation.
+template <class S> void projectMobility(const Model<S>& m, VecX<S>& y) {
+  const int N = m.nBodies();
+  for (int b = 0; b < N; ++b) {
+    if (m.mobility[b] == kFree) continue;
+    auto v = y.template segment<3>(7 * N + 6 * b);
+    if (m.mobility[b] == kTranslation) v = m.mobilityAxis[b] * m.mobilityAxis[b].dot(Vec3<S>(v));
+    else v.setZero();
+    y.template segment<3>(7 * N + 6 * b + 3).setZero();
+  }
+}
+
 // Keeps every quaternion of unit length.
 template <class S> void normalizeQuaternions(const Model<S>& m, VecX<S>& y) {
   for (int b = 0; b < m.nBodies(); ++b) {
@@ -297,6 +315,7 @@ template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w)
     solveA(w, w.lam);
     applyCorrection(m, w, s.y, true);
   }
+  projectMobility(m, s.y);
   kinematics(m, s.y, w);
   constraintRows(m, w);
   if (factored) computeW(m, w);     // the correction directions at the final positions

@@ -215,6 +215,7 @@ template <class S> class Integrator {
     const Settings& cfg = m_.settings;
     w_.needDampingResponse = isRosenbrock(cfg.integrator);
     w_.slip = s_.slip;
+    projectMobility(m_, s_.y);  // a guided or immobile body's velocity into its subspace
     // Initial contact modes (and impacts if a stop starts approaching), then a consistent state.
     if (resolveContacts(m_, s_, w_) < 0) return fail(st, "contact solve failed at the start");
     if (cfg.stabilization != Stabilization::None && !project(m_, s_, w_))

@@ -22,6 +22,10 @@ template <class S> struct Body {
   template <class T> Body<T> cast() const { return {name, T(mass), castVec<T>(inertia)}; }
 };
 
+// How a body may move when its joint to the ground is eliminated (Model::finalize): freely (6 DOF), only
+// along a fixed world axis (a prismatic joint to the ground), or not at all (a fixed joint to the ground).
+enum Mobility : signed char { kFree = 0, kTranslation = 1, kImmobile = 2 };
+
 // What the stages after "kinematics" read about one body at one instant.
 template <class S> struct BodyKin {
   Vec3<S> r;        // [m] centre of mass, world
@@ -32,6 +36,26 @@ template <class S> struct BodyKin {
   Mat3<S> IwInv;    // [1/(kg m^2)]
   S mass;           // [kg]
   S invMass;        // [1/kg]
+  signed char mobility = kFree;  // see Mobility; set once by the workspace from the model
+  Vec3<S> axis = Vec3<S>::Zero();  // [-] the world axis of a kTranslation body
+
+  // The body's (restricted) inverse mass applied to a wrench (f, tau): for a free body
+  // (f / m, I^-1 tau); for one guided along the unit axis a, the inverse mass restricted to its
+  // motions S = (a, 0), S (S^T M S)^-1 S^T (f, tau) = (a (a.f) / m, 0) -- the exact elimination of the
+  // guide's five rows; for an immobile body 0.
+  Vec6<S> invMassTimes(const Vec3<S>& f, const Vec3<S>& tau) const {
+    Vec6<S> out;
+    if (mobility == kFree) {
+      out.template head<3>() = invMass * f;
+      out.template tail<3>() = IwInv * tau;
+    } else if (mobility == kTranslation) {
+      out.template head<3>() = axis * (axis.dot(f) * invMass);
+      out.template tail<3>().setZero();
+    } else {
+      out.setZero();
+    }
+    return out;
+  }
 
   // World position of a body-fixed point rho (body coordinates), its lever arm and velocity.
   Vec3<S> point(const Vec3<S>& rho) const { return r + R * rho; }

@@ -110,6 +110,10 @@ template <class S> struct Workspace {
   explicit Workspace(const Model<S>& m) {
     const int N = m.nBodies(), R = m.nRows;
     kin.assign(N + 1, BodyKin<S>::ground());
+    for (int b = 0; b < N; ++b) {
+      kin[b].mobility = m.mobility[b];
+      kin[b].axis = m.mobilityAxis[b];
+    }
     wrench.assign(N, Vec6<S>::Zero());
     aFree.assign(N, Vec6<S>::Zero());
     rows.assign(R, Row<S>{S(0), S(0), Vec6<S>::Zero(), Vec6<S>::Zero()});

@@ -18,20 +18,29 @@
 
 namespace lg {
 
-// W_k = M^-1 J_k^T for every row in work.list.
+// W_k = M^-1 J_k^T for every row in work.list (M^-1 restricted for a guided or immobile body, see
+// BodyKin::invMassTimes).
 template <class S> void computeW(const Model<S>& m, Workspace<S>& w) {
   for (int k : w.list) {
     const RowInfo& ri = m.rowInfo[k];
     const Row<S>& row = w.rows[k];
     if (ri.bi >= 0) {
       const BodyKin<S>& K = w.kin[ri.bi];
-      w.Wi[k].template head<3>() = K.invMass * row.Ji.template head<3>();
-      w.Wi[k].template tail<3>() = K.IwInv * row.Ji.template tail<3>();
+      if (K.mobility == kFree) {
+        w.Wi[k].template head<3>() = K.invMass * row.Ji.template head<3>();
+        w.Wi[k].template tail<3>() = K.IwInv * row.Ji.template tail<3>();
+      } else {
+        w.Wi[k] = K.invMassTimes(row.Ji.template head<3>(), row.Ji.template tail<3>());
+      }
     }
     if (ri.bj >= 0) {
       const BodyKin<S>& K = w.kin[ri.bj];
-      w.Wj[k].template head<3>() = K.invMass * row.Jj.template head<3>();
-      w.Wj[k].template tail<3>() = K.IwInv * row.Jj.template tail<3>();
+      if (K.mobility == kFree) {
+        w.Wj[k].template head<3>() = K.invMass * row.Jj.template head<3>();
+        w.Wj[k].template tail<3>() = K.IwInv * row.Jj.template tail<3>();
+      } else {
+        w.Wj[k] = K.invMassTimes(row.Jj.template head<3>(), row.Jj.template tail<3>());
+      }
     }
   }
 }
