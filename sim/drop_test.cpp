@@ -215,35 +215,56 @@ class DropObserver {
               : simpson(a.Pa, m.Pa, b.Pa, 0, 0, 0, a.sdot, m.sdot, b.sdot, t1 - t);
   }
   // Updates the running maximum 'best' of a channel. If its rate goes from + to - inside the step, the
-  // maximum is located on the dense output (golden section). Returns true if the maximum moved.
+  // maximum is located on the dense output (Brent's minimisation of -f: golden sections and parabolic
+  // steps, Forsythe, Malcolm & Moler's fmin; tolerance sqrt(eps) |t| + 1e-13, where the values are equal
+  // to round-off). Returns true if the maximum moved.
   template <class F>
   bool refine(double rate0, double rate1, double t0, double t1, Workspace<double>& w, const DenseOutput<double>& d, F f,
               double& best, double* tBest, double endValue, double tEnd) {
     double v = endValue, tv = tEnd;
     if (rate0 > 0 && rate1 < 0) {
-      const double gr = 0.5 * (std::sqrt(5.0) - 1);
-      double a = t0, b = t1;
-      double c = b - gr * (b - a), e = a + gr * (b - a);
-      double fc = f(channelsAt(c, w, d)), fe = f(channelsAt(e, w, d));
-      for (int it = 0; it < 60 && b - a > 1e-13 * std::max(1.0, t1); ++it) {
-        if (fc > fe) {
-          b = e;
-          e = c;
-          fe = fc;
-          c = b - gr * (b - a);
-          fc = f(channelsAt(c, w, d));
+      const double cgold = 0.5 * (3.0 - std::sqrt(5.0)), sqeps = std::sqrt(2.2e-16), tol = 1e-13 * std::max(1.0, t1);
+      double a = t0, b = t1, x = a + cgold * (b - a), wv = x, vv = x, e = 0, dd = 0;
+      double fx = -f(channelsAt(x, w, d)), fw = fx, fv = fx;
+      for (int it = 0; it < 100; ++it) {
+        const double xm = 0.5 * (a + b), tol1 = sqeps * std::abs(x) + tol / 3, tol2 = 2 * tol1;
+        if (std::abs(x - xm) <= tol2 - 0.5 * (b - a)) break;
+        bool golden = true;
+        if (std::abs(e) > tol1) {  // a parabola through x, w, v
+          double r = (x - wv) * (fx - fv), q = (x - vv) * (fx - fw), p = (x - vv) * q - (x - wv) * r;
+          q = 2 * (q - r);
+          if (q > 0) p = -p;
+          q = std::abs(q);
+          const double eOld = e;
+          e = dd;
+          if (std::abs(p) < std::abs(0.5 * q * eOld) && p > q * (a - x) && p < q * (b - x)) {
+            dd = p / q;
+            const double u = x + dd;
+            if (u - a < tol2 || b - u < tol2) dd = xm >= x ? tol1 : -tol1;
+            golden = false;
+          }
+        }
+        if (golden) {
+          e = (x >= xm ? a : b) - x;
+          dd = cgold * e;
+        }
+        const double u = std::abs(dd) >= tol1 ? x + dd : x + (dd > 0 ? tol1 : -tol1);
+        const double fu = -f(channelsAt(u, w, d));
+        if (fu <= fx) {
+          (u >= x ? a : b) = x;
+          vv = wv, fv = fw, wv = x, fw = fx, x = u, fx = fu;
         } else {
-          a = c;
-          c = e;
-          fc = fe;
-          e = a + gr * (b - a);
-          fe = f(channelsAt(e, w, d));
+          (u < x ? a : b) = u;
+          if (fu <= fw || wv == x) {
+            vv = wv, fv = fw, wv = u, fw = fu;
+          } else if (fu <= fv || vv == x || vv == wv) {
+            vv = u, fv = fu;
+          }
         }
       }
-      const double tm = 0.5 * (a + b), vm = f(channelsAt(tm, w, d));
-      if (vm > v) {
-        v = vm;
-        tv = tm;
+      if (-fx > v) {
+        v = -fx;
+        tv = x;
       }
     }
     if (v > best) {
