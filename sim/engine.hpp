@@ -32,8 +32,8 @@ template <class S> void kinematics(const Model<S>& m, const VecX<S>& y, Workspac
   for (int b = 0; b < N; ++b) {
     BodyKin<S>& K = w.kin[b];
     const Body<S>& B = m.bodies[b];
-    K.Iw = K.R * B.inertia.asDiagonal() * K.R.transpose();
     K.IwInv = K.R * B.inertia.cwiseInverse().asDiagonal() * K.R.transpose();
+    K.I0 = B.inertia;
     K.mass = B.mass;
     K.invMass = S(1) / B.mass;
   }
@@ -46,7 +46,7 @@ template <class S> void forces(const Model<S>& m, Workspace<S>& w) {
   const int N = m.nBodies();
   for (int b = 0; b < N; ++b) {
     w.wrench[b].template head<3>().setZero();
-    w.wrench[b].template tail<3>() = -w.kin[b].w.cross(w.kin[b].Iw * w.kin[b].w);
+    w.wrench[b].template tail<3>() = -w.kin[b].w.cross(w.kin[b].angularMomentum());
   }
   const Kins<S> K = w.kins();
   const Wrenches<S> W{w.wrench.data()};
@@ -125,7 +125,11 @@ template <class S> bool multipliers(const Model<S>& m, const std::vector<char>& 
   const S alpha2(2 * m.settings.baumgarteAlpha), beta2(m.settings.baumgarteBeta * m.settings.baumgarteBeta);
   for (size_t a = 0; a < w.list.size(); ++a) {
     const int k = w.list[a];
-    w.b[a] = -w.rows[k].gamma - rowDot(m, w, k, w.aFree);
+    const RowInfo& ri = m.rowInfo[k];
+    S Ja = S(0);
+    if (ri.bi >= 0) Ja += dot6(w.rows[k].Ji.data(), w.aFree[ri.bi].data());
+    if (ri.bj >= 0) Ja += dot6(w.rows[k].Jj.data(), w.aFree[ri.bj].data());
+    w.b[a] = -w.rows[k].gamma - Ja;
     if (baumgarte) w.b[a] -= alpha2 * rowVelocity(m, w, k) + beta2 * w.rows[k].C;
     w.lam[a] = lambdaAll[k];  // warm start
   }
@@ -221,7 +225,7 @@ template <class S> EnergyReport<S> energy(const Model<S>& m, const State<S>& s, 
   EnergyReport<S> e;
   for (int b = 0; b < m.nBodies(); ++b) {
     const BodyKin<S>& K = w.kin[b];
-    e.kinetic += S(0.5) * K.mass * K.v.squaredNorm() + S(0.5) * K.w.dot(K.Iw * K.w);
+    e.kinetic += S(0.5) * K.mass * K.v.squaredNorm() + S(0.5) * K.w.dot(K.angularMomentum());
   }
   const Kins<S> K = w.kins();
   for (const auto& f : m.forces) e.stored += std::visit([&](const auto& el) { return el.stored(K); }, f.type);

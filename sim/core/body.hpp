@@ -32,8 +32,8 @@ template <class S> struct BodyKin {
   Mat3<S> R;        // body-to-world rotation
   Vec3<S> v;        // [m/s] centre-of-mass velocity, world
   Vec3<S> w;        // [rad/s] angular velocity, world
-  Mat3<S> Iw;       // [kg m^2] world inertia R I0 R^T
-  Mat3<S> IwInv;    // [1/(kg m^2)]
+  Vec3<S> I0;       // [kg m^2] principal inertia (body frame); the world inertia is R I0 R^T
+  Mat3<S> IwInv;    // [1/(kg m^2)] (R I0 R^T)^-1
   S mass;           // [kg]
   S invMass;        // [1/kg]
   signed char mobility = kFree;  // see Mobility; set once by the workspace from the model
@@ -57,6 +57,9 @@ template <class S> struct BodyKin {
     return out;
   }
 
+  // Angular momentum about the centre of mass, I_w w = R (I0 (R^T w)) (world).
+  Vec3<S> angularMomentum() const { return R * I0.cwiseProduct(R.transpose() * w); }
+
   // World position of a body-fixed point rho (body coordinates), its lever arm and velocity.
   Vec3<S> point(const Vec3<S>& rho) const { return r + R * rho; }
   Vec3<S> pointVelocity(const Vec3<S>& arm) const { return v + w.cross(arm); }
@@ -67,7 +70,7 @@ template <class S> struct BodyKin {
     k.R.setIdentity();
     k.v.setZero();
     k.w.setZero();
-    k.Iw.setZero();
+    k.I0.setZero();
     k.IwInv.setZero();
     k.mass = S(0);
     k.invMass = S(0);
