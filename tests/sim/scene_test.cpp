@@ -55,15 +55,16 @@ TEST_CASE("shipped scenes load", "[scene]") {
   double G = 0;
   for (const auto& b : seed.model.bodies) G += b.mass;
   CHECK(G == Approx(4050.0));
-  // Rows: revolute 5 + 5, spherical 3 + 3, sliding 4, two stops; the rig's prismatic joint to the
-  // ground is eliminated into the airframe's mobility (translation along y), its 5 rows not built.
-  CHECK(seed.model.nRows == 5 + 5 + 3 + 3 + 4 + 2);
+  // Rows: revolute 5 + 5, spherical 3 + 3, sliding 4, two stops, the strut's friction lock (exact
+  // Coulomb friction); the rig's prismatic joint to the ground is eliminated into the airframe's
+  // mobility (translation along y), its 5 rows not built.
+  CHECK(seed.model.nRows == 5 + 5 + 3 + 3 + 4 + 2 + 1);
   CHECK(seed.model.mobility[seed.model.bodyIndex("airframe")] == lg::kTranslation);
   const lg::Scene tele = lg::loadScene(lgtest::sourcePath("data/telescopic_gear.toml"));
   CHECK(tele.model.nBodies() == 4);
-  // Rows: fixed 6 + prismatic 5 (strut) + revolute 5, two stops, the rig eliminated; 24 coordinates
-  // - 5 (rig) - 16 bilateral rows = 3 degrees of freedom: airframe height, stroke, wheel spin.
-  CHECK(tele.model.nRows == 6 + 5 + 5 + 2);
+  // Rows: fixed 6 + prismatic 5 (strut) + revolute 5, two stops, the friction lock, the rig eliminated;
+  // 24 coordinates - 5 (rig) - 16 bilateral rows = 3 degrees of freedom: airframe height, stroke, wheel spin.
+  CHECK(tele.model.nRows == 6 + 5 + 5 + 2 + 1);
 }
 
 TEST_CASE("bad input names file, line and key, and simulate exits with 2 and writes nothing", "[scene][input]") {
