@@ -437,6 +437,29 @@ template <class S> class Integrator {
     return Trial::Retry;
   }
 
+  // A friction lock that started slipping at rest (its rate zero at the step's start) and ends the step
+  // moving against its slip direction: the slip was shorter than the step, which must not cross it
+  // unseen (the segment's law would then drive the motion). Rows must be current at the step's end.
+  bool slipReversedUnseen() const {
+    for (int k = 0; k < m_.nRows; ++k) {
+      if (!m_.rowInfo[k].friction() || s_.active[k] || s_.slip[k] == 0) continue;
+      if (value(w_.g0[k]) <= 0 && s_.slip[k] * value(rowVelocity(m_, w_, k)) < 0) return true;
+    }
+    return false;
+  }
+  // Such a step is retried at a quarter of its size; when it is down to the event tolerance, the slip is
+  // over: the lock is at rest at the step's end, and its mode is decided there (resolveFriction).
+  static constexpr double kSlipRetryFloor = 1e-9;  // [s]
+  bool settleUnseenSlips(RunStatus& st) {
+    for (int k = 0; k < m_.nRows; ++k)
+      if (m_.rowInfo[k].friction() && !s_.active[k] && s_.slip[k] != 0 && value(w_.g0[k]) <= 0 &&
+          s_.slip[k] * value(rowVelocity(m_, w_, k)) < 0)
+        setSlip(s_, w_, k, 0);
+    ++st.events;
+    if (resolveContacts(m_, s_, w_) < 0) return false;
+    return m_.settings.stabilization == Stabilization::None || project(m_, s_, w_);
+  }
+
   // The events of an accepted adaptive step: if one triggered, the step ends on it ('ended'); the dense
   // output (valid on [t0, t0 + h]) still describes [t0, t_event] for the observer, the state may have
   // jumped (impact, projection), so f and g are refreshed and the next step starts small. Returns false
@@ -505,6 +528,18 @@ template <class S> class Integrator {
       s_.y = w_.y1;
       s_.t = s_.t + S(h);
       eventFunctions(m_, s_, s_.lambda, w_, w_.g1);
+      if (slipReversedUnseen()) {  // (rows are at y1: the last stage is there)
+        if (h > kSlipRetryFloor) {
+          s_.y = w_.y0;
+          s_.t = s_.t - S(h);
+          h *= 0.25;
+          ++st.rejected;
+          continue;
+        }
+        if (!settleUnseenSlips(st) || !refresh()) return failNonFinite(st);
+        hNext = std::max(h, 1e-8);
+        return true;
+      }
       bool ended = false;
       if (!endOnEvent(h, hNext, st, ended)) return false;
       if (ended) return true;
@@ -642,6 +677,13 @@ template <class S> class Integrator {
       s_.t = s_.t + S(h);
       kinematics(m_, s_.y, w_);
       constraintRows(m_, w_);
+      if (slipReversedUnseen() && h > kSlipRetryFloor) {
+        s_.y = w_.y0;
+        s_.t = s_.t - S(h);
+        h *= 0.25;
+        ++st.rejected;
+        continue;
+      }
       bool projected = false;
       if (!stabilise(st, projected)) {
         fail(st, "projection failed");
@@ -649,6 +691,12 @@ template <class S> class Integrator {
       }
       w_.needDampingResponse = true;  // and after an event, refresh() takes it again
       if (!evaluate(m_, s_.y, s_.active, s_.lambda, w_, w_.ydot) || !allFinite(w_.ydot)) return failNonFinite(st);
+      if (slipReversedUnseen()) {  // (down to the retry floor)
+        if (!settleUnseenSlips(st) || !refresh()) return failNonFinite(st);
+        k[6] = w_.ydot;
+        hNext = std::max(h, 1e-8);
+        return true;
+      }
       eventFunctions(m_, s_, s_.lambda, w_, w_.g1);
       k[6] = w_.ydot;
       dense_.kind = DenseOutput<S>::Hermite;
