@@ -1,6 +1,8 @@
 // simulate SCENE [--case NAME]... [--out DIR] [--plots] [--threads N] [--integrator NAME] [--rtol X]
-//          [--atol X] [--step H] [--quiet]
-// Runs drop cases of a scene and writes DIR/<case>.csv, DIR/summary.json (and plots).
+//          [--atol X] [--step H] [--accuracy A] [--work-precision] [--quiet]
+// Runs drop cases of a scene and writes DIR/<case>.csv, DIR/summary.json (and plots); or, with
+// --work-precision, the error of every integrator over a range of tolerances against the scene's own
+// tight run (DIR/work_precision.csv and, with --plots, DIR/work_precision_<case>.png).
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
@@ -13,7 +15,9 @@
 #include <mutex>
 #include <thread>
 
+#include "sim/accuracy.hpp"
 #include "sim/io/results.hpp"
+#include "sim/io/work_precision.hpp"
 #include "sim/io/toml_reader.hpp"  // lg::fmt
 
 int main(int argc, char** argv) {
@@ -34,6 +38,14 @@ int main(int argc, char** argv) {
   app.add_option("--rtol", rtol, "override the relative tolerance of the adaptive integrators (atol = rtol/100 unless --atol)");
   app.add_option("--atol", atol, "override the absolute tolerance of the adaptive integrators");
   app.add_option("--step", step, "override the step of the fixed-step integrators (first trial step of the adaptive ones) [s]");
+  // Accuracy on demand and work-precision (sim/accuracy.hpp).
+  double accuracy = 0;
+  bool workPrecision = false;
+  app.add_option("--accuracy", accuracy,
+                 "relative accuracy of the reported metrics (1e-5 .. 1e-1): chooses integrator and tolerances");
+  app.add_flag("--work-precision", workPrecision,
+               "run every integrator over a range of tolerances against the scene's own tight run; write the table "
+               "(and with --plots the pictures) of error against time per drop");
   CLI11_PARSE(app, argc, argv);
 
   lg::Scene scene;
@@ -62,6 +74,14 @@ int main(int argc, char** argv) {
       positive("--step", step);
       cfg.step = step;
     }
+    if (app.count("--accuracy")) {
+      if (const std::string rule = lg::accuracyRule(accuracy); !rule.empty())
+        throw lg::InputError("command line", 0, "--accuracy", "value " + lg::fmt(accuracy) + " " + rule);
+      for (const char* flag : {"--integrator", "--rtol", "--atol"})
+        if (app.count(flag))
+          throw lg::InputError("command line", 0, flag, "--accuracy chooses integrator and tolerances: give one or the other");
+      lg::applyAccuracy(cfg, accuracy);
+    }
     if (caseNames.empty()) cases = scene.cases;
     for (const auto& n : caseNames) {
       auto it = std::find_if(scene.cases.begin(), scene.cases.end(), [&](const auto& c) { return c.name == n; });
@@ -78,6 +98,26 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (workPrecision) {  // single thread: the times are per drop on one core
+    std::error_code wec;
+    std::filesystem::create_directories(outDir, wec);
+    if (wec) {
+      std::cerr << "error: cannot create output directory " << outDir << ": " << wec.message() << "\n";
+      return 1;
+    }
+    if (!quiet) std::fprintf(stderr, "work-precision of %s: %zu case(s), every integrator, against dopri5 at rtol 1e-10\n",
+                             scene.name.c_str(), cases.size());
+    const auto points = lg::workPrecision(scene, cases);
+    lg::writeWorkPrecisionCsv(points, outDir + "/work_precision.csv");
+    std::string why;
+    const bool drawn = plots && lg::writeWorkPrecisionPlots(scene, points, outDir, &why);
+    if (plots && !drawn) std::cerr << "plots skipped: " << why << "\n";
+    if (!quiet) {
+      lg::printWorkPrecisionTable(points, stdout);
+      std::printf("wrote %s/work_precision.csv%s\n", outDir.c_str(), drawn ? " and work_precision_<case>.png" : "");
+    }
+    return 0;
+  }
 
   // Progress on a terminal for runs longer than a second.
   const bool tty = !quiet && isatty(STDERR_FILENO);

@@ -62,7 +62,10 @@ struct WorkPrecisionOptions {
 std::vector<WorkPrecisionPoint> workPrecision(const Scene& scene, const std::vector<DropCase>& cases,
                                               const WorkPrecisionOptions& opt = {});
 
-// The scene with its solver set for one point (integrator name as in scene files).
+// The scene with its solver set for one point: an adaptive integrator at rtol = tolerance (atol = rtol /
+// 100), a fixed-step one at step = tolerance.
 Scene withSolver(const Scene& scene, IntegratorKind kind, double tolerance);
+// The scene-file name of an integrator ("dopri5", "ros34pw2", ...).
+std::string integratorName(IntegratorKind kind);
 
 }  // namespace lg

@@ -33,6 +33,7 @@ struct Settings {
   double contactTolerance = 1e-7;     // [m] a stop within this is touching
   double eventTolerance = 1e-12;      // [s] width of the bracket of a located event
   bool profile = false;               // time each stage of the step
+  double accuracy = 0;                // [-] the relative accuracy these settings were chosen for (applyAccuracy), 0: none
   bool eliminateGroundJoints = true;  // a body's prismatic or fixed joint to the ground restricts its
                                       // mobility instead of adding rows (exact; see Model::finalize)
 };

@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 
+#include "sim/accuracy.hpp"
 #include "sim/engine.hpp"
 #include "sim/io/toml_reader.hpp"
 
@@ -95,7 +96,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     TomlReader r(*t, file, "solver");
     r.allowOnly({"multipliers", "integrator", "stabilization", "rtol", "atol", "step", "max_step", "max_steps",
                  "projection_tolerance", "baumgarte_alpha", "baumgarte_beta", "gauss_seidel_iterations",
-                 "gauss_seidel_tolerance", "contact_tolerance", "event_tolerance"});
+                 "gauss_seidel_tolerance", "contact_tolerance", "event_tolerance", "accuracy"});
     Settings& s = m.settings;
     const std::string mult = r.string("multipliers", "direct");
     if (mult == "direct") s.solver = MultiplierSolver::Direct;
@@ -121,6 +122,13 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     s.gaussSeidelTolerance = r.positive("gauss_seidel_tolerance", s.gaussSeidelTolerance);
     s.contactTolerance = r.positive("contact_tolerance", s.contactTolerance);
     s.eventTolerance = r.positive("event_tolerance", s.eventTolerance);
+    if (r.has("accuracy")) {  // the relative accuracy of the metrics: chooses integrator and tolerances
+      const double a = r.positive("accuracy");
+      if (const std::string rule = accuracyRule(a); !rule.empty()) r.fail("accuracy", "value " + fmt(a) + " " + rule);
+      for (const char* k : {"integrator", "rtol", "atol", "max_step"})
+        if (r.has(k)) r.fail(k, std::string("accuracy chooses integrator, rtol, atol and max_step: give either accuracy or ") + k);
+      applyAccuracy(s, a);
+    }
   }
   // [[body]]
   std::vector<Pose> poses;
