@@ -35,7 +35,7 @@ int simulate(const std::string& args) {
 
 }  // namespace
 
-TEST_CASE("--accuracy keeps its promise on every shipped scene and case at 1e-2, 1e-3 and 1e-4",
+TEST_CASE("accuracy on demand keeps its promise on every shipped scene and case at 1e-2, 1e-3 and 1e-4",
           "[accuracy]") {
   // The largest relative error of the six metrics (peak load, its time, max stroke, max travel, max tyre
   // deflection, efficiency) against the scene's own tight run is below the accuracy asked for. Measured
@@ -87,7 +87,8 @@ TEST_CASE("the accuracy mapping: loose accuracies take ros34pw2, tight ones dopr
   CHECK(!lg::accuracyRule(std::nan("")).empty());
 }
 
-TEST_CASE("[solver] accuracy chooses the solver; a bad value or a clash is bad input", "[accuracy][scene][input]") {
+TEST_CASE("the scene key solver.accuracy chooses the solver, and a bad value or a clash is bad input",
+          "[accuracy][scene][input]") {
   toml::table doc = lgtest::shippedDoc("data/seed_gear.toml");
   toml::table& solver = *doc["solver"].as_table();
   for (const char* k : {"integrator", "rtol", "atol"}) solver.erase(k);
