@@ -258,15 +258,20 @@ template <class S> void applyCorrection(const Model<S>& m, Workspace<S>& w, VecX
 
 // Puts the velocity of every guided or immobile body (Model::finalize) in its subspace: v along its axis
 // (the mass-weighted projection: translation only, isotropic mass), no rotation.
-template <class S> void projectMobility(const Model<S>& m, VecX<S>& y) {
+// Returns whether a velocity changed.
+template <class S> bool projectMobility(const Model<S>& m, VecX<S>& y) {
   const int N = m.nBodies();
+  bool changed = false;
   for (int b = 0; b < N; ++b) {
     if (m.mobility[b] == kFree) continue;
+    const Vec6<S> before = y.template segment<6>(7 * N + 6 * b);
     auto v = y.template segment<3>(7 * N + 6 * b);
     if (m.mobility[b] == kTranslation) v = m.mobilityAxis[b] * m.mobilityAxis[b].dot(Vec3<S>(v));
     else v.setZero();
     y.template segment<3>(7 * N + 6 * b + 3).setZero();
+    for (int i = 0; i < 6; ++i) changed = changed || value(before[i]) != value(y[7 * N + 6 * b + i]);
   }
+  return changed;
 }
 
 // Keeps every quaternion of unit length.
@@ -308,27 +313,32 @@ template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w)
     factored = true;
     return factorA(w);
   };
+  bool current = false;  // kinematics and rows at the final positions
   for (int it = 0; it < 8; ++it) {
     kinematics(m, s.y, w);
     constraintRows(m, w);
     double pos, vel;
     violation(m, s.active, w, pos, vel);
-    if (pos <= 0.01 * tol) break;
+    if (pos <= 0.01 * tol) {
+      current = true;
+      break;
+    }
     if (!factorOnce()) return false;
     for (size_t a = 0; a < w.list.size(); ++a) w.lam[a] = -w.rows[w.list[a]].C;
     solveA(w, w.lam);
     applyCorrection(m, w, s.y, true);
   }
-  projectMobility(m, s.y);
-  kinematics(m, s.y, w);
-  constraintRows(m, w);
+  if (projectMobility(m, s.y)) current = false;
+  if (!current) {
+    kinematics(m, s.y, w);
+    constraintRows(m, w);
+  }
   if (factored) computeW(m, w);     // the correction directions at the final positions
   else if (!factorOnce()) return false;  // (no position iteration: W and the factor are current)
   for (size_t a = 0; a < w.list.size(); ++a) w.lam[a] = -rowVelocity(m, w, w.list[a]);
   solveA(w, w.lam);
   applyCorrection(m, w, s.y, false);
-  kinematics(m, s.y, w);
-  return true;
+  return true;  // (the workspace's velocities are those before the correction: callers evaluate anew)
 }
 
 // ---- stage: events (contact modes) ---------------------------------------------------------------
