@@ -237,6 +237,14 @@ template <class S> class Integrator {
       ++st.steps;
       obs.onStep(m_, s_, w_, dense_);
     }
+    // An event whose time depends on the parameters (a stop reached, a strut breaking away) moves every
+    // later step by that much: the run ends at tEnd in value but at tEnd + dt_event/dp in derivative.
+    // The state at tEnd itself: y(tEnd) = y - dy/dt (t - tEnd), to first order in the derivative part.
+    if constexpr (!std::is_same_v<S, double>) {
+      const S dt = derivativePart(s_.t);
+      s_.y -= w_.ydot * dt;
+      s_.t -= dt;
+    }
     return st;
   }
 

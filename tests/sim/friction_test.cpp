@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "sim/core/jet.hpp"
 #include "tests/sim/engine_support.hpp"  // sim headers, then Catch (see there)
 #include "tests/sim/scene_support.hpp"
 
@@ -192,4 +193,52 @@ TEST_CASE("Coulomb friction: the regularised law converges to it on the seed gea
     lgtest::report("Coulomb, %-9s energy balance %.2e", r.metrics.name.c_str(), r.metrics.energy_balance_error);
     CHECK(r.metrics.energy_balance_error < 1e-6);
   }
+}
+
+TEST_CASE("Coulomb friction: Jet derivatives through stick and slip match finite differences",
+          "[friction][coulomb][jet]") {
+  // d x(T) / d mu of the block on the belt, T in the slip phase: mu sets F_max, hence the time the block
+  // breaks away (an event whose time carries the derivative, t1 = F_max / (k v_b)) and the slip's offset;
+  // closed form (1 - cos(omega (T - t1))) p_01 F / k. Reference: central differences of double runs at
+  // rtol 1e-11 (their step sequences differ, which limits them to ~1e-6); measured 2e-9.
+  const Belt b;
+  const double T = b.t1() + 0.3 * 2 * M_PI / b.omega();
+  const lg::Scene sc = lgtest::inlineScene(b.scene("dopri5", 1e-11));
+  const int block = sc.model.bodyIndex("block"), N = sc.model.nBodies();
+  const int strut = sc.model.forceIndex("friction");
+  auto start = [&](auto& s) {
+    using Scalar = std::decay_t<decltype(s.y[0])>;
+    for (int i = 0; i < N; ++i) {
+      s.y.template segment<3>(7 * N + 6 * i).setZero();
+      s.y[7 * N + 6 * i] = Scalar(b.vb);
+    }
+  };
+  auto xAt = [&](double mu) {
+    lg::Model<double> m = sc.model;
+    std::get<lg::ShockAbsorber<double>>(m.forces[strut].type).mu = mu;
+    lg::State<double> s = sc.initial;
+    start(s);
+    lg::Workspace<double> w(m);
+    REQUIRE(lg::simulate(m, s, w, T).ok);
+    return s.y[7 * block];
+  };
+  using J1 = ceres::Jet<double, 1>;
+  lg::Model<J1> mj = sc.model.cast<J1>();
+  std::get<lg::ShockAbsorber<J1>>(mj.forces[strut].type).mu.v[0] = 1.0;
+  lg::State<J1> sj(mj);
+  sj.y = sc.initial.y.cast<J1>();
+  sj.active = sc.initial.active;
+  start(sj);
+  lg::Workspace<J1> wj(mj);
+  REQUIRE(lg::simulate(mj, sj, wj, T).ok);
+  const J1 x = sj.y[7 * block];
+  const double h = 1e-4 * b.mu;
+  const double fd = (xAt(b.mu + h) - xAt(b.mu - h)) / (2 * h);
+  lgtest::report("belt d x(T)/d mu: Jet %.10e, central differences %.10e (rel. %.1e); x(T) %.10f, double %.10f", x.v[0], fd,
+                 std::abs(x.v[0] - fd) / std::abs(fd), x.a, xAt(b.mu));
+  REQUIRE(std::abs(fd) > 1e-3);
+  CHECK(std::abs(x.v[0] - fd) <= 1e-7 * std::abs(fd));
+  const double closed = (1 - std::cos(b.omega() * (T - b.t1()))) * b.p01 * b.F() / b.k;
+  CHECK(std::abs(x.v[0] - closed) <= 1e-7 * std::abs(closed));
+  CHECK(std::abs(x.a - xAt(b.mu)) <= 1e-12);
 }
