@@ -300,11 +300,19 @@ template <class S> void violation(const Model<S>& m, const std::vector<char>& ac
 // tiny (a step's drift), so J M^-1 J^T is factored once, at the first iterate (simplified Newton): each
 // further iteration contracts the violation by |I - A A_0^-1| ~ the relative change of A (~1e-6), and
 // the velocity projection leaves |J V| at that fraction of its start. Iterates to 1 % of the tolerance.
-template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w) {
+// With 'factorNearby' the caller says that the workspace holds the factor of J M^-1 J^T (and W) for these
+// rows at a nearby state (the step's last evaluation): the Gauss-Newton iteration uses it instead of
+// factoring anew (it then contracts by the relative change of A over that distance, ~1e-3 for a stage
+// of the step, and takes the same two or three iterations).
+template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w, bool factorNearby = false) {
   ScopedStage timer(w.timer, kStabilise, m.settings.profile);
   normalizeQuaternions(m, s.y);
   const double tol = m.settings.projectionTolerance;
   bool factored = false;
+  if (factorNearby && m.settings.solver == MultiplierSolver::Direct) {
+    listActiveRows(m, s.active, w);
+    factored = w.pairList == w.list;  // the factor in the workspace is of this row list
+  }
   auto factorOnce = [&]() {
     if (factored) return true;
     listActiveRows(m, s.active, w);

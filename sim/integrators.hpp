@@ -289,7 +289,7 @@ template <class S> class Integrator {
       return true;
     }
     ++st.projections;
-    return project(m_, s_, w_);
+    return project(m_, s_, w_, /*factorNearby=*/true);  // the step's last evaluation factored A nearby
   }
 
   // After an accepted step or event whose end was evaluated: stabilise if needed, then refresh f and g.
