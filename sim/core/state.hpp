@@ -56,6 +56,16 @@ struct FactorUpdate {
   int dst, a, b;
 };
 
+// The structure of the direct factor for one row list (analyseA, assembleA): kept for the few lists a
+// run switches between (contact and friction modes), so that a switch back costs a copy, not an analysis.
+struct FactorStructure {
+  std::vector<int> list, order, pos, below, belowStart, envFirst, envStart, superStart, rowAt, superRows, superRowAt,
+      superRowStart, updateStart;
+  std::vector<FactorUpdate> updates;
+  std::vector<PairTerm> pairs;
+  std::array<int, 5> pairGroup{};
+};
+
 // What the last multiplier solve reports.
 struct SolveReport {
   int iterations = 0;       // Gauss-Seidel sweeps (0 for the direct solve)
@@ -102,6 +112,8 @@ template <class S> struct Workspace {
   std::vector<int> superRows, superRowAt, superRowStart;  // the rows below each supernode, flat index of L(r, c0)
   std::vector<FactorUpdate> updates;  // the updates of each supernode, [updateStart[K], updateStart[K+1])
   std::vector<int> updateStart;
+  std::array<FactorStructure, 4> structureCache;  // recently analysed row lists (filled at mode switches)
+  int structureNext = 0;                           // the cache entry to overwrite next
   VecX<S> permTmp;                   // a right-hand side in elimination order
   SolveReport report;
   StageTimer timer;

@@ -197,6 +197,51 @@ inline double dot6(const double* a, const double* b) {
 }
 #endif
 
+// The factor's structure for work.list, saved in / restored from the workspace's small cache.
+template <class S> void saveStructure(Workspace<S>& w) {
+  FactorStructure& c = w.structureCache[w.structureNext];
+  w.structureNext = (w.structureNext + 1) % static_cast<int>(w.structureCache.size());
+  c.list = w.list;
+  c.order = w.order;
+  c.pos = w.pos;
+  c.below = w.below;
+  c.belowStart = w.belowStart;
+  c.envFirst = w.envFirst;
+  c.envStart = w.envStart;
+  c.superStart = w.superStart;
+  c.rowAt = w.rowAt;
+  c.superRows = w.superRows;
+  c.superRowAt = w.superRowAt;
+  c.superRowStart = w.superRowStart;
+  c.updates = w.updates;
+  c.updateStart = w.updateStart;
+  c.pairs = w.pairs;
+  c.pairGroup = w.pairGroup;
+}
+template <class S> bool restoreStructure(Workspace<S>& w) {
+  for (const FactorStructure& c : w.structureCache) {
+    if (c.list.empty() || c.list != w.list) continue;
+    w.pairList = w.list;
+    w.order = c.order;
+    w.pos = c.pos;
+    w.below = c.below;
+    w.belowStart = c.belowStart;
+    w.envFirst = c.envFirst;
+    w.envStart = c.envStart;
+    w.superStart = c.superStart;
+    w.rowAt = c.rowAt;
+    w.superRows = c.superRows;
+    w.superRowAt = c.superRowAt;
+    w.superRowStart = c.superRowStart;
+    w.updates = c.updates;
+    w.updateStart = c.updateStart;
+    w.pairs = c.pairs;
+    w.pairGroup = c.pairGroup;
+    return true;
+  }
+  return false;
+}
+
 // A = J M^-1 J^T over work.list, lower triangle in elimination order (entry (a, c) of the list at
 // position (pos[a], pos[c])), in the packed envelope (flatIndexA). It sums J_k . W_l over the
 // bodies the two rows share; pairs with no common body are never visited. The terms depend only on
@@ -206,7 +251,7 @@ inline double dot6(const double* a, const double* b) {
 template <class S> void assembleA(const Model<S>& m, Workspace<S>& w) {
   const int n = static_cast<int>(w.list.size());
   const bool direct = m.settings.solver == MultiplierSolver::Direct;
-  if (w.pairList != w.list) {  // rebuild the terms and the factor's structure (mode switches only)
+  if (w.pairList != w.list && !restoreStructure(w)) {  // rebuild the terms and the structure (mode switches only)
     w.pairList = w.list;
     analyseA(m, w);
     w.pairs.clear();
@@ -226,6 +271,7 @@ template <class S> void assembleA(const Model<S>& m, Workspace<S>& w) {
       }
     }
     w.pairGroup[4] = static_cast<int>(w.pairs.size());
+    saveStructure(w);
   }
   S* A = w.L.data();
   for (int e = 0; e < w.envStart[n]; ++e) A[e] = S(0);
