@@ -65,7 +65,7 @@ template <class S> Kinks findKinks(const CaseFigures<S>& F, const DropCase& c, d
   if (value(F.rebound_velocity) > 0 && std::abs(c.liftRatio - 1) < 1e-12)
     k.plateau = "lift equal to the weight: after lift-off no net force acts, and with L > 1 the largest upward velocity "
                 "moves to the end of the run: its derivative in the lift ratio is one-sided (the side of L <= 1)";
-  if (!F.stickIntervals.empty()) {
+  if (!F.stickIntervals.empty()) {  // (regularised friction only: exact Coulomb stick is an event, differentiated)
     k.tStick = F.stickIntervals.front().first;
     k.stick = "a strut sticks from t = " + num(k.tStick) +
               " s (|s'| within ten friction velocities): the derivative is the regularised friction's, not the Coulomb "

@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 
+#include "sim/accuracy.hpp"
 #include "sim/certification.hpp"
 #include "sim/engine.hpp"
 #include "sim/io/toml_reader.hpp"
@@ -167,7 +168,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     TomlReader r(*t, file, "solver");
     r.allowOnly({"multipliers", "integrator", "stabilization", "rtol", "atol", "step", "max_step", "max_steps",
                  "projection_tolerance", "baumgarte_alpha", "baumgarte_beta", "gauss_seidel_iterations",
-                 "gauss_seidel_tolerance", "contact_tolerance", "event_tolerance"});
+                 "gauss_seidel_tolerance", "contact_tolerance", "event_tolerance", "accuracy"});
     Settings& s = m.settings;
     const std::string mult = r.string("multipliers", "direct");
     if (mult == "direct") s.solver = MultiplierSolver::Direct;
@@ -193,6 +194,13 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     s.gaussSeidelTolerance = r.positive("gauss_seidel_tolerance", s.gaussSeidelTolerance);
     s.contactTolerance = r.positive("contact_tolerance", s.contactTolerance);
     s.eventTolerance = r.positive("event_tolerance", s.eventTolerance);
+    if (r.has("accuracy")) {  // the relative accuracy of the metrics: chooses integrator and tolerances
+      const double a = r.positive("accuracy");
+      if (const std::string rule = accuracyRule(a); !rule.empty()) r.fail("accuracy", "value " + fmt(a) + " " + rule);
+      for (const char* k : {"integrator", "rtol", "atol", "max_step"})
+        if (r.has(k)) r.fail(k, std::string("accuracy chooses integrator, rtol, atol and max_step: give either accuracy or ") + k);
+      applyAccuracy(s, a);
+    }
   }
   // [[body]]
   std::vector<Pose> poses;
@@ -342,7 +350,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       f.type = ConstantForce<double>{bodyRef(r, "body", false), r.vec3("force")};
     } else if (type == "shock_absorber") {
       r.allowOnly({"name", "type", "rod", "cylinder", "rod_point", "cylinder_point", "L0", "D", "D2", "p01", "Omega0",
-                   "n", "rho", "f1", "f1_table", "f2", "xi1", "xi2", "mu", "p_atm", "friction_velocity"});
+                   "n", "rho", "f1", "f1_table", "f2", "xi1", "xi2", "mu", "p_atm", "friction", "friction_velocity"});
       ShockAbsorber<double> s;
       s.bi = bodyRef(r, "rod");
       s.bj = bodyRef(r, "cylinder");
@@ -380,6 +388,12 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       s.mu = r.nonNegative("mu", 0.0);
       s.pAtm = r.nonNegative("p_atm", 0.0);
       if (!(s.pAtm < s.p01)) r.fail("p_atm", "value " + fmt(s.pAtm) + " must be < p01 = " + fmt(s.p01) + " (the gas must push the rod out)");
+      const std::string law = r.string("friction", "regularised");
+      if (law != "coulomb" && law != "regularised")
+        r.fail("friction", "value '" + law + "' must be \"coulomb\" (exact stick/slip) or \"regularised\"");
+      s.coulomb = law == "coulomb";
+      if (s.coulomb && r.has("friction_velocity"))
+        r.fail("friction_velocity", "applies to friction = \"regularised\" only (this strut's friction is \"coulomb\")");
       s.frictionVelocity = r.positive("friction_velocity", 1e-3);
       f.type = s;
       sc.roles.struts.push_back(static_cast<int>(m.forces.size()));

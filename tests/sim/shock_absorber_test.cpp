@@ -45,7 +45,7 @@ ref::StrutLaw telescopicLaw() {
 TEST_CASE("shock-absorber force follows method.md", "[shock_absorber]") {
   // With p_atm = 0 (the article) and with p_atm on: gas (p_1 - p_atm) F, friction mu (p_1 - p_atm) F sgn.
   const double pAtm = GENERATE(0.0, 101325.0);
-  toml::table doc = lgtest::shippedDoc("data/telescopic_gear.toml");
+  toml::table doc = lgtest::referenceDoc("data/telescopic_gear.toml");  // the law's regularised friction
   lgtest::element(doc, "force", "shock").insert_or_assign("p_atm", pAtm);
   const lg::Scene sc = lgtest::build(doc);
   ref::StrutLaw law = telescopicLaw();
@@ -146,10 +146,10 @@ TEST_CASE("metering pin: a constant table reproduces the constant orifice", "[sh
 }
 
 TEST_CASE("atmospheric pressure: off by default, changes the static force by p_atm F", "[shock_absorber][p_atm]") {
-  const lg::Scene base = lg::loadScene(lgtest::sourcePath("data/telescopic_gear.toml"));
+  const lg::Scene base = lgtest::build(lgtest::referenceDoc("data/telescopic_gear.toml"));
   CHECK(std::get<lg::ShockAbsorber<double>>(base.model.forces[base.roles.struts.at(0)].type).pAtm == 0.0);
   const double pAtm = 101325.0;
-  toml::table doc = lgtest::shippedDoc("data/telescopic_gear.toml");
+  toml::table doc = lgtest::referenceDoc("data/telescopic_gear.toml");
   lgtest::element(doc, "force", "shock").insert_or_assign("p_atm", pAtm);
   const lg::Scene atm = lgtest::build(doc);
   const ref::TelescopicParams p;
