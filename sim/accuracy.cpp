@@ -1,6 +1,8 @@
 // Accuracy on demand and work-precision (sim/accuracy.hpp).
 #include "sim/accuracy.hpp"
 
+#include <limits>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -64,6 +66,14 @@ void applyAccuracy(Settings& s, double accuracy) {
   s.atol = a.atol;
   s.maxStep = a.maxStep;
   s.accuracy = accuracy;
+}
+
+double impliedAccuracy(const Settings& s) {
+  if (s.accuracy > 0) return s.accuracy;
+  double a = std::numeric_limits<double>::quiet_NaN();
+  if (s.integrator == IntegratorKind::DormandPrince) a = s.rtol;
+  if (s.integrator == IntegratorKind::Ros34pw2) a = 6 * s.rtol;
+  return a <= kAccuracyMax ? std::max(a, kAccuracyMin) : std::numeric_limits<double>::quiet_NaN();
 }
 
 std::string accuracyRule(double accuracy) {

@@ -36,6 +36,10 @@ constexpr double kAccuracyMax = 1e-1;
 AccuracySetting settingForAccuracy(double accuracy);
 // Sets integrator, rtol, atol and max_step of 's' for 'accuracy' (kAccuracyMin <= accuracy <= kAccuracyMax).
 void applyAccuracy(Settings& s, double accuracy);
+// The relative accuracy of the metrics that solver settings give, by the same calibration read backwards:
+// 'accuracy' if the settings came from one, dopri5 at rtol r about r, ros34pw2 at rtol r about 6 r; NaN
+// for the integrators the calibration does not cover (ros2, rk4, euler) or tolerances beyond it.
+double impliedAccuracy(const Settings& s);
 // Why an accuracy value is not accepted ("" if it is): the rule for messages of the parsers and the CLI.
 std::string accuracyRule(double accuracy);
 
