@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
 
   lg::cli::installInterruptHandler();
   const bool tty = !quiet && isatty(fileno(stderr));
+  if (!quiet) std::printf("%s: drop-test solver %s\n", study.name.c_str(), study.solverChoice.c_str());
   const bool maximize = study.objective.kind == lg::optim::ObjectiveKind::MaxEfficiency;
 
   lg::optim::RunOptions ro;

@@ -1,7 +1,10 @@
 // simulate SCENE [--case NAME]... [--out DIR] [--plots] [--threads N] [--integrator NAME] [--rtol X]
 //          [--atol X] [--step H] [--set PATH=VALUE]... [--sink-speeds LIST] [--lift-ratios LIST]
-//          [--duration T] [--output-interval DT] [--quiet]
-// Runs drop cases of a scene and writes DIR/<case>.csv, DIR/summary.json, DIR/summary.csv (and plots).
+//          [--duration T] [--output-interval DT] [--accuracy A] [--gradient PATHS] [--work-precision]
+//          [--quiet]
+// Runs drop cases of a scene and writes DIR/<case>.csv, DIR/summary.json, DIR/summary.csv (and plots);
+// or, with --work-precision, the error of every integrator over a range of tolerances against the
+// scene's own tight run (DIR/work_precision.csv and, with --plots, DIR/work_precision_<case>.png).
 // Exit status: 0 done, 1 a case failed or an output could not be written, 2 bad input (nothing
 // written), 130 interrupted (nothing written).
 #include <unistd.h>
@@ -15,11 +18,13 @@
 #include <mutex>
 
 #include "apps/cli.hpp"
+#include "sim/accuracy.hpp"
 #include "sim/io/files.hpp"
 #include "sim/io/overrides.hpp"
 #include "sim/io/plots.hpp"
 #include "sim/io/results.hpp"
 #include "sim/io/toml_reader.hpp"  // lg::fmt
+#include "sim/io/work_precision.hpp"
 #include "sim/metrics.hpp"
 #include "sim/parameters.hpp"
 
@@ -28,9 +33,9 @@ namespace {
 struct Options {
   std::string scene, outDir = "out", integrator, sinkSpeeds, liftRatios;
   std::vector<std::string> cases, sets, gradient;
-  bool plots = false, quiet = false;
+  bool plots = false, quiet = false, workPrecision = false;
   int threads = 0;
-  double rtol = 0, atol = 0, step = 0, duration = 0.8, outputInterval = 0;
+  double rtol = 0, atol = 0, step = 0, duration = 0.8, outputInterval = 0, accuracy = 0;
 };
 
 // The scene with the command line's overrides and the cases to run; throws lg::InputError.
@@ -58,7 +63,17 @@ lg::Scene loadInputs(const Options& o, const CLI::App& app, std::vector<lg::Drop
     positive("--step", o.step);
     cfg.step = o.step;
   }
+  if (app.count("--accuracy")) {
+    if (const std::string rule = lg::accuracyRule(o.accuracy); !rule.empty())
+      throw lg::InputError("command line", 0, "--accuracy", "value " + lg::fmt(o.accuracy) + " " + rule);
+    for (const char* flag : {"--integrator", "--rtol", "--atol"})
+      if (app.count(flag))
+        throw lg::InputError("command line", 0, flag, "--accuracy chooses integrator and tolerances: give one or the other");
+    lg::applyAccuracy(cfg, o.accuracy);
+  }
   if (app.count("--output-interval")) positive("--output-interval", o.outputInterval);
+  if (o.workPrecision && !o.gradient.empty())
+    throw lg::InputError("command line", 0, "--gradient", "--work-precision runs no gradient: give one or the other");
   // The cases: a sink-speed / lift matrix, the named scene cases, or every case of the scene.
   const bool matrix = !o.sinkSpeeds.empty() || !o.liftRatios.empty();
   if (matrix) {
@@ -176,6 +191,33 @@ void printGradients(const Gradients& g) {
   }
 }
 
+// simulate --work-precision: single thread, so that the times are per drop on one core.
+int workPrecision(const Options& o, const lg::Scene& scene, const std::vector<lg::DropCase>& cases) {
+  if (!o.quiet)
+    std::fprintf(stderr, "work-precision of %s: %zu case(s), every integrator, against dopri5 at rtol 1e-10\n",
+                 scene.name.c_str(), cases.size());
+  const auto points = lg::workPrecision(scene, cases);
+  if (lg::cli::interrupted()) {
+    std::cerr << "interrupted: nothing written\n";
+    return lg::cli::kInterrupted;
+  }
+  std::string why;
+  bool drawn = false;
+  try {
+    lg::writeWorkPrecisionCsv(points, o.outDir + "/work_precision.csv");
+    drawn = o.plots && lg::writeWorkPrecisionPlots(scene, points, o.outDir, &why);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return lg::cli::kFailed;
+  }
+  if (o.plots && !drawn) std::cerr << "plots skipped: " << why << "\n";
+  if (!o.quiet) {
+    lg::printWorkPrecisionTable(points, stdout);
+    std::printf("wrote %s/work_precision.csv%s\n", o.outDir.c_str(), drawn ? " and work_precision_<case>.png" : "");
+  }
+  return lg::cli::kOk;  // a setting that failed is a row of the table (FAILED), not a failure of the command
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -199,6 +241,11 @@ int main(int argc, char** argv) {
   app.add_option("--output-interval", o.outputInterval, "CSV rows every DT seconds from the dense output (default: one per step) [s]");
   app.add_option("--gradient", o.gradient, "derivatives of every metric with respect to these parameters, PATH[,PATH...] "
                                            "(exact, forward mode): into summary.json and gradient.csv");
+  app.add_option("--accuracy", o.accuracy,
+                 "relative accuracy of the reported metrics (1e-5 .. 1e-1): chooses integrator and tolerances");
+  app.add_flag("--work-precision", o.workPrecision,
+               "run every integrator over a range of tolerances against the scene's own tight run; write the table "
+               "(and with --plots the pictures) of error against time per drop (one core)");
   if (const int rc = lg::cli::parse(app, argc, argv); rc >= 0) return rc;
 
   lg::Scene scene;
@@ -219,6 +266,7 @@ int main(int argc, char** argv) {
   }
   const int threads = lg::cli::resolveThreads(o.threads);
   lg::cli::installInterruptHandler();
+  if (o.workPrecision) return workPrecision(o, scene, cases);
 
   // Progress on a terminal for runs longer than a second; Ctrl-C stops every case at its next step.
   const bool tty = !o.quiet && isatty(STDERR_FILENO);

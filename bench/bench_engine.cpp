@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/cli.hpp"
 #include "sim/integrators.hpp"
 #include "sim/io/scene.hpp"
 
@@ -70,7 +71,11 @@ Row run(const lg::Scene& sc, lg::MultiplierSolver solver, lg::IntegratorKind int
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+  CLI::App app{"Engine throughput: steps and right-hand-side evaluations per second of a 5-body, 25-row chain for "
+               "each multiplier solver and integrator, with the per-stage profile (one core, about 6 s)"};
+  lg::cli::addVersion(app, "bench_engine");
+  if (const int rc = lg::cli::parse(app, argc, argv); rc >= 0) return rc;
   const lg::Scene sc = lg::parseScene(chainScene(), "chain.toml");
   std::printf("5-link revolute chain: %d bodies, %d constraint rows, falling from horizontal\n", sc.model.nBodies(),
               sc.model.nRows);

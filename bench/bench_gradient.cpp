@@ -10,6 +10,7 @@
 #include <cstring>
 #include <string>
 
+#include "apps/cli.hpp"
 #include "optim/evaluator.hpp"
 #include "optim/study.hpp"
 
@@ -20,23 +21,12 @@ double seconds(const std::chrono::steady_clock::time_point& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app{"The cost of the main study's exact gradient against one evaluation and central differences "
+               "(run from the project root)"};
+  lg::cli::addVersion(app, "bench_gradient");
   int repeat = 3;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--help") == 0) {
-      std::printf("bench_gradient [--repeat N]: the cost of the main study's exact gradient against one evaluation and "
-                  "central differences (run from the project root)\n");
-      return 0;
-    }
-    if (std::strcmp(argv[i], "--version") == 0) {
-      std::printf("bench_gradient %s\n", LG_VERSION);
-      return 0;
-    }
-    if (std::strcmp(argv[i], "--repeat") == 0 && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
-    else {
-      std::fprintf(stderr, "error: unknown argument '%s' (see --help)\n", argv[i]);
-      return 2;
-    }
-  }
+  app.add_option("--repeat", repeat, "timed repetitions (median; default 3)")->check(CLI::Range(1, 1000));
+  if (const int rc = lg::cli::parse(app, argc, argv); rc >= 0) return rc;
   lg::optim::Study s;
   try {
     s = lg::optim::loadStudy("studies/seed_gear_min_peak.cfg");

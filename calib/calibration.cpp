@@ -74,7 +74,9 @@ void parseParameters(const toml::table& doc, const std::string& file, Calibratio
       r.fail("path", "a case's duration is no parameter of the drop: it cannot be fitted");
     try {
       sceneValue = parameterValue(c.scene, p.parameter);
-      (void)getParameter(c.scene.doc, p.path, c.sceneFile);  // calibrated.toml writes it: the file must hold the key
+      toml::table doc = c.scene.doc;  // calibrated.toml writes it: the file must hold the key (a table's sample inline)
+      inlineTables(doc, c.scene, {p.path});
+      (void)getParameter(doc, p.path, c.sceneFile);
     } catch (const InputError& e) {
       r.fail("path", "'" + p.path + "' is not a numeric parameter of the scene file (" + e.what() + ")");
     }

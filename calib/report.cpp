@@ -165,6 +165,9 @@ std::string historiesCsv(const Calibration& c, const FitResult& r, std::size_t m
 
 std::string calibratedToml(const Calibration& c, const FitResult& r, const std::string& outDir) {
   toml::table doc = c.scene.doc;
+  std::vector<std::string> paths;
+  for (const auto& q : c.parameters) paths.push_back(q.path);
+  inlineTables(doc, c.scene, paths);
   for (std::size_t i = 0; i < c.parameters.size(); ++i) setParameter(doc, c.parameters[i].path, r.fitted.x[i], c.file);
   relocateTablePaths(doc, c.sceneDir, outDir);
   // The inline drops of the measurements as cases, so that `simulate calibrated.toml --case <measurement>`

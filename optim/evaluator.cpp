@@ -16,6 +16,9 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 toml::table designDocument(const Study& s, const std::vector<double>& x) {
   toml::table doc = s.scene.doc;
+  std::vector<std::string> paths;
+  for (const auto& v : s.variables) paths.push_back(v.path);
+  inlineTables(doc, s.scene, paths);
   for (size_t i = 0; i < s.variables.size(); ++i) setParameter(doc, s.variables[i].path, x[i], s.file);
   return doc;
 }

@@ -127,6 +127,8 @@ std::string resultJson(const Study& s, const StudyResult& r, double wall) {
   j << "  \"algorithm\": {\"name\": " << jsonString(s.algorithm.name) << ", \"local\": " << jsonString(s.algorithm.local)
     << ", \"seed\": " << s.algorithm.seed << ", \"constraints\": "
     << jsonString(s.items.empty() ? "none" : describeConstraintHandling(s.algorithm.name, s.algorithm.penalty)) << "},\n";
+  j << "  \"solver\": {\"setting\": " << jsonString(s.solverChoice) << ", \"accuracy_needed\": " << jsonNumber(s.accuracyNeeded)
+    << "},\n";
   j << "  \"objective\": {\"kind\": " << jsonString(objectiveKind(s)) << ", \"aggregate\": " << jsonString(aggregateName(s))
     << ", \"cases\": " << jsonString(casesOf(s, CaseRole::Objective)) << ", \"best\": " << jsonNumber(o.best.objective)
     << ", \"baseline\": " << jsonNumber(o.initial.objective) << ", \"scale\": " << jsonNumber(o.objectiveScale) << "},\n";
@@ -285,6 +287,7 @@ std::string reportMarkdown(const Study& s, const StudyResult& r, double wall, co
   m << "- algorithm: " << s.algorithm.name << (s.algorithm.local.empty() ? "" : " (local " + s.algorithm.local + ")")
     << ", seed " << s.algorithm.seed << ", constraints "
     << (s.items.empty() ? "none" : describeConstraintHandling(s.algorithm.name, s.algorithm.penalty)) << "\n";
+  m << "- drop-test solver: " << s.solverChoice << "\n";
   m << "- result: **" << o.reason << "** (" << o.nloptName << "), " << o.evaluations << " evaluations ("
     << o.simulations << " simulated), best at evaluation " << o.bestIndex << ", wall time " << shortNum(wall, 4)
     << " s\n";

@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <set>
 
 #include <nlopt.h>
 
 #include "optim/optimizer.hpp"
+#include "sim/accuracy.hpp"
 #include "sim/io/files.hpp"
 #include "sim/io/toml_reader.hpp"
 #include "sim/metrics.hpp"
@@ -470,13 +472,59 @@ void parseSensitivity(const toml::table& doc, const std::string& file, Study& s)
 
 }  // namespace
 
+namespace {
+
+// The setting of a scene's solver in words: "dopri5, rtol 1e-06" or "accuracy 0.001 (ros34pw2, rtol 0.000167)".
+std::string describeSolver(const Settings& c) {
+  const bool adaptive = c.integrator == IntegratorKind::DormandPrince || isRosenbrock(c.integrator);
+  const std::string setting = integratorName(c.integrator) + (adaptive ? ", rtol " + fmt(c.rtol) : ", step " + fmt(c.step) + " s");
+  return c.accuracy > 0 ? "accuracy " + fmt(c.accuracy) + " (" + setting + ")" : setting;
+}
+
+// The accuracy the study's stopping tolerances need, and the solver it runs with (Study::solverChoice).
+void chooseSolver(bool studySolver, Study& s) {
+  double tol = s.algorithm.xtolRel > 0 ? s.algorithm.xtolRel : std::numeric_limits<double>::infinity();
+  if (s.algorithm.ftolRel > 0) tol = std::min(tol, s.algorithm.ftolRel);
+  s.accuracyNeeded = std::isfinite(tol) ? std::clamp(0.1 * tol, kAccuracyMin, 1e-2) : 1e-3;
+  const std::string why = std::isfinite(tol) ? "the study's xtol_rel / ftol_rel of " + fmt(tol) : "a study stopped by maxeval or maxtime";
+  Settings& cfg = s.scene.model.settings;
+  const double have = impliedAccuracy(cfg);
+  const std::string haveWords = std::isnan(have) ? "an accuracy the calibration does not cover" : "metrics to about " + fmt(have);
+  const std::string need = fmt(s.accuracyNeeded) + " that " + why + " needs";
+  if (studySolver) {
+    s.solverChoice = describeSolver(cfg) + ": the study's [solver], " + haveWords +
+                     (!std::isnan(have) && have <= s.accuracyNeeded ? ", within the " : ", NOT within the ") + need;
+  } else if (!std::isnan(have) && have <= s.accuracyNeeded) {
+    s.solverChoice = describeSolver(cfg) + ": the scene's [solver], " + haveWords + ", within the " + need;
+  } else {
+    const std::string old = describeSolver(cfg);
+    applyAccuracy(cfg, s.accuracyNeeded);
+    toml::table& sceneSolver = *s.scene.doc.insert("solver", toml::table{}).first->second.as_table();
+    for (const char* k : {"integrator", "rtol", "atol", "max_step"}) sceneSolver.erase(k);
+    sceneSolver.insert_or_assign("accuracy", s.accuracyNeeded);
+    s.solverChoice = describeSolver(cfg) + ": the " + need + " (the scene's " + old + " gives " + haveWords + ")";
+  }
+}
+
+}  // namespace
+
 // ---- parsing ---------------------------------------------------------------------------------------
 void applySolverTable(const toml::table* t, const std::string& file, Scene& scene, const std::string& sceneFile,
                       const std::string& sceneDir) {
   if (!t) return;
   TomlReader r(*t, file, "solver");
-  r.allowOnly({"integrator", "rtol", "atol", "step"});
+  r.allowOnly({"integrator", "rtol", "atol", "step", "accuracy"});
   toml::table& sceneSolver = *scene.doc.insert("solver", toml::table{}).first->second.as_table();
+  if (r.has("accuracy")) {  // the relative accuracy of the metrics: it chooses integrator and tolerances
+    const double a = r.positive("accuracy");
+    if (const std::string rule = accuracyRule(a); !rule.empty()) r.fail("accuracy", "value " + fmt(a) + " " + rule);
+    for (const char* k : {"integrator", "rtol", "atol"})
+      if (r.has(k)) r.fail(k, std::string("accuracy chooses integrator, rtol and atol: give either accuracy or ") + k);
+    for (const char* k : {"integrator", "rtol", "atol", "max_step"}) sceneSolver.erase(k);
+    sceneSolver.insert_or_assign("accuracy", a);
+  } else if (r.has("integrator") || r.has("rtol") || r.has("atol")) {
+    sceneSolver.erase("accuracy");  // the study's own integrator settings replace the scene's accuracy
+  }
   if (r.has("integrator")) {
     const std::string name = r.string("integrator");
     IntegratorKind kind;
@@ -542,7 +590,9 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
     try {
       s.parameters.push_back(resolveParameter(s.scene, v.path, s.sceneFile));
       sceneValue = parameterValue(s.scene, s.parameters.back());
-      (void)getParameter(s.scene.doc, v.path, s.sceneFile);  // best.toml writes it: the file must hold the key
+      toml::table doc = s.scene.doc;  // best.toml writes it: the file must hold the key (a table's sample inline)
+      inlineTables(doc, s.scene, {v.path});
+      (void)getParameter(doc, v.path, s.sceneFile);
     } catch (const InputError& e) {
       r.fail("path", "'" + v.path + "' is not a numeric parameter of the scene (" + e.what() + ")");
     }
@@ -571,6 +621,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
   parseConstraints(doc, file, s);
   parseAlgorithm(doc, file, s);
   parseSensitivity(doc, file, s);
+  chooseSolver(tableOf(doc, "solver", file) != nullptr, s);
   return s;
 }
 

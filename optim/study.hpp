@@ -3,7 +3,9 @@
 // the objective, the constraints, the certification matrix and the NLopt algorithm. `optimize` runs it.
 //
 //   scene = "../data/seed_gear.toml"          # relative to the study file
-//   [solver]      integrator = "ros34pw2", rtol = 1e-4, atol, step   # into the scene's [solver]
+//   [solver]      integrator = "ros34pw2", rtol = 1e-4, atol, step | accuracy = 1e-3   # into the scene's [solver]
+//                 (absent: the scene's setting if accurate enough for the study's tolerances, else the
+//                 accuracy they need; Study::solverChoice says which)
 //   [[variable]]  path = "strut.f1", lower = 4e-5, upper = 1.2e-4, initial = 7e-5, log = true
 //   [[case]]      name = "limit", role = "objective"      # a case of the scene or of the matrix ...
 //   [[case]]      name = "hard", role = "constraint", sink_speed = 3.3, lift_ratio = 1.0, duration = 0.8,
@@ -153,6 +155,13 @@ struct Study {
   bool staticStrokeNeeded = false;
   AlgorithmSettings algorithm;
   SensitivitySettings sensitivity;
+  // The drop-test solver: the relative accuracy of the metrics the study's tolerances need (a tenth of the
+  // smallest of xtol_rel and ftol_rel, within 1e-5 .. 1e-2), and the setting the study runs with, in
+  // words, with why (reports and the terminal). Without a [solver] of its own the study keeps the
+  // scene's setting where that is accurate enough (sim/accuracy.hpp, impliedAccuracy), else it runs at
+  // the accuracy it needs (written into best.toml's [solver] as `accuracy`).
+  double accuracyNeeded = 1e-5;
+  std::string solverChoice;
 
   int steeringCases() const;  // objective and constraint cases: cases[0 .. steeringCases())
 };
@@ -165,7 +174,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
                  const std::vector<ParameterOverride>& sets = {});
 
 // The [solver] table 't' of a study or calibration file (integrator, rtol, atol = rtol/100 unless given,
-// step; absent: nothing) written into the scene's own [solver], and the scene rebuilt with it: every
+// step; or accuracy, which chooses integrator and tolerances; absent: nothing) written into the scene's own [solver], and the scene rebuilt with it: every
 // design and the written scenes (best.toml, calibrated.toml) run with those settings. Errors name 'file'.
 void applySolverTable(const toml::table* t, const std::string& file, Scene& scene, const std::string& sceneFile,
                       const std::string& sceneDir);

@@ -65,7 +65,7 @@ template <class S> Kinks findKinks(const CaseFigures<S>& F, const DropCase& c, d
   if (value(F.rebound_velocity) > 0 && std::abs(c.liftRatio - 1) < 1e-12)
     k.plateau = "lift equal to the weight: after lift-off no net force acts, and with L > 1 the largest upward velocity "
                 "moves to the end of the run: its derivative in the lift ratio is one-sided (the side of L <= 1)";
-  if (!F.stickIntervals.empty()) {
+  if (!F.stickIntervals.empty()) {  // (regularised friction only: exact Coulomb stick is an event, differentiated)
     k.tStick = F.stickIntervals.front().first;
     k.stick = "a strut sticks from t = " + num(k.tStick) +
               " s (|s'| within ten friction velocities): the derivative is the regularised friction's, not the Coulomb "
@@ -238,24 +238,7 @@ const std::vector<MetricInfo>& gradientMetrics() {
   return list;
 }
 
-std::string parameterUnit(const Scene& scene, const Parameter& p) {
-  switch (p.kind) {
-    case Parameter::Kind::BodyMass: return "kg";
-    case Parameter::Kind::StopLength: return "m";
-    case Parameter::Kind::Case: return p.key == "sink_speed" ? "m/s" : p.key == "lift_ratio" ? "-" : "s";
-    case Parameter::Kind::Force: break;
-  }
-  const std::string& k = p.key;
-  if (k == "p01" || k == "p_atm") return "Pa";
-  if (k == "Omega0") return "m^3";
-  if (k == "f1" || k == "f2") return "m^2";
-  if (k == "rho") return "kg/m^3";
-  if (k == "K" || k == "k") return "N/m";
-  if (k == "c") return "N s/m";
-  if (k == "n" || k == "xi1" || k == "xi2" || k == "mu" || k == "alpha") return "-";
-  (void)scene;
-  return "m";  // D, D2, L0, radius, delta_max, ground_height
-}
+std::string parameterUnit(const Scene&, const Parameter& p) { return unitOfKey(p.key); }
 
 void checkGradientParameter(const Parameter& p, const std::string& where) {
   if (p.kind == Parameter::Kind::Case && p.key == "duration")

@@ -12,9 +12,10 @@
 //    clear of it by less than 1e-3 of S_max: bottoming begins at this design;
 //  - the rebound velocity with lift equal to the weight: after lift-off no net force acts, and with L > 1
 //    the largest upward velocity moves to the end of the run (one-sided in the lift ratio);
-//  - a strut sticks (|s'| within ten times the friction velocity, longer than a passage) before the
-//    metric is reached: the derivative is the regularised friction's, not the Coulomb limit's (listed
-//    last in the note).
+//  - a strut with regularised friction sticks (|s'| within ten times the friction velocity, longer than a
+//    passage) before the metric is reached: the derivative is the regularised friction's, not the
+//    Coulomb limit's (listed last in the note). With exact Coulomb friction (friction = "coulomb") stick
+//    and slip are events whose times are differentiated: no note.
 #pragma once
 
 #include <string>

@@ -4,7 +4,7 @@
 // parameters seeded in the model.
 //
 // Derivatives of the figures. Every extremum is located on the dense output at a time t* found on
-// values (golden section where the channel's rate turns from + to -); the figure is the channel at t*,
+// values (Brent's search where the channel's rate turns from + to -); the figure is the channel at t*,
 // so by the envelope rule its derivative is the channel's partial derivative there (the rate is 0).
 // The time of the peak load itself moves: dt*/dp = -(dP'/dp)(t*) / P''(t*) (implicit function rule on
 // the rate P' = 0), applied to t_peak. Integrals over the compression end where their integrand
@@ -51,7 +51,8 @@ template <class S> struct CaseFigures {
   bool compression_ended = false, bottomed = false;
   // For the kink report (values only).
   std::vector<std::pair<double, double>> loadHumps;     // (t, P_y) of each interior local maximum of P_y
-  std::vector<std::pair<double, double>> stickIntervals;  // [t0, t1] where a strut stuck after moving
+  std::vector<std::pair<double, double>> stickIntervals;  // [t0, t1] where a strut with regularised friction
+                                                           // stuck after moving (exact Coulomb: not a kink)
   double tStrokeMax = 0, tHMax = 0, tStrutForceMax = 0;  // [s] when s_max, h_max and P_a,max were reached
 };
 
@@ -111,10 +112,14 @@ template <class S> class DropObserver {
       dragTyre_.push_back(std::get<Tyre<S>>(m.forces[f].type).longitudinal);
       if (dragTyre_.back()) drag_ = true;
     }
+    for (int k = 0; k < m.nRows; ++k)
+      if (m.rowInfo[k].friction()) lockRows_.push_back(k);
     for (int f : sc.roles.struts) {
       strutOut_.push_back(m.outputOffset[f]);
       strutOutputs_.push_back(static_cast<int>(m.forces[f].outputNames().size()));
-      epsFriction_ = std::max(epsFriction_, std::get<ShockAbsorber<S>>(m.forces[f].type).frictionVelocity);
+      const auto& sa = std::get<ShockAbsorber<S>>(m.forces[f].type);
+      regularised_.push_back(!sa.coulomb);
+      if (!sa.coulomb) epsFriction_ = std::max(epsFriction_, sa.frictionVelocity);
     }
     const size_t ns = strutOut_.size(), nt = tyreOut_.size();
     prev_ = end_ = mid_ = after_ = scratch_ = Channels(ns, nt);
@@ -134,7 +139,8 @@ template <class S> class DropObserver {
   void onStart(const Model<S>& m, const State<S>& s, Workspace<S>& w) {
     if (airframe_ >= 0) r0_ = w.kin[airframe_].r;
     stepActive_ = s.active;
-    at(s.t, s.y, prev_);
+    stepSlip_ = s.slip;
+    at(s.t, s.y, s.active, s.slip, prev_);
     EnergyReport<S> e = energy(m, s, w);
     e0_ = value(e.total());
     ek0_ = value(e.kinetic);
@@ -205,7 +211,7 @@ template <class S> class DropObserver {
       if (refineWithoutRate(prev_.Pa[k], mid_.Pa[k], end_.Pa[k], t0, t1, d, [k](const Channels& c) { return c.Pa[k]; },
                             St.force_max))
         F_.tStrutForceMax = value(t1);
-      watchStick(k, value(t1), value(end_.sdot[k]));
+      if (regularised_[k]) watchStick(k, value(t1), value(end_.sdot[k]));
     }
     double tH = -1;
     if (value(prev_.hdot) > 0 && value(end_.hdot) <= 0) F_.compression_ended = true;
@@ -226,10 +232,11 @@ template <class S> class DropObserver {
     F_.constraint_violation_max = std::max(F_.constraint_violation_max, viol);
     checkBottom(s);
     if (recording() && denseRows()) recordDense(m, value(t0), value(t1), s, d);
-    at(s.t, s.y, after_);  // after any jump at t1: the next step's start
+    at(s.t, s.y, s.active, s.slip, after_);  // after any jump at t1: the next step's start
     for (size_t k = 0; k < F_.struts.size(); ++k) F_.struts[k].force_max = maxByValue(F_.struts[k].force_max, after_.Pa[k]);
     if (recording() && !denseRows()) record(value(s.t), wo_, s.lambda, s.active, w);
     stepActive_ = s.active;  // after any event at t1: the next step's mode
+    stepSlip_ = s.slip;
     std::swap(prev_, after_);
     ++steps_;
   }
@@ -349,14 +356,27 @@ template <class S> class DropObserver {
   }
   // Channels at (t, y) on the observer's own workspace (poses and force outputs only: no solve), so that
   // the integrator's workspace is never touched.
-  void at(const S& t, const VecX<S>& y, Channels& c) {
-    poses(m_, y, wo_);
+  // Channels at state y in a contact and friction mode (active, slip): poses and force outputs, which
+  // read each strut's slip direction; with a stuck friction lock a full evaluation, for its reaction
+  // (part of P_a), else the locks' reactions are 0.
+  void at(const S& t, const VecX<S>& y, const std::vector<char>& active, const std::vector<signed char>& slip,
+          Channels& c) {
+    wo_.slip = slip;
+    bool stuck = false;
+    for (int r : lockRows_) stuck = stuck || active[r];
+    if (stuck) {
+      evaluate(m_, y, active, lambdaTmp_, wo_, ydotTmp_);
+    } else {
+      poses(m_, y, wo_);
+      for (int r : lockRows_) wo_.rowLambda[r] = S(0);
+    }
     forceOutputs(wo_);
     channels(t, wo_, c);
   }
+  // On the dense output of the step in progress: its mode is the one it started with.
   void channelsAt(const S& t, const DenseOutput<S>& d, Channels& c) {
     d.at(t, ytmp_);
-    at(t, ytmp_, c);
+    at(t, ytmp_, stepActive_, stepSlip_, c);
   }
 
   // A damped tyre's load rate holds c delta'', which its outputs cannot know (no accelerations there): with
@@ -398,7 +418,7 @@ template <class S> class DropObserver {
   }
 
   // A running maximum of a channel without a rate: from its values at the step's start, middle and
-  // end, the step is searched (golden section on values) where its largest sample is inside or at the
+  // end, the step is searched (Brent's search on values) where its largest sample is inside or at the
   // start (a maximum just after the start, or the one carried over from the previous step, lies in
   // [t0, t_mid]); a largest value at the end is taken there, and the next step looks further.
   // 'endOnly' (a step entered part-way): only the middle and end samples count.
@@ -489,6 +509,7 @@ template <class S> class DropObserver {
         if (timeSlot_ >= 0) tr.v[timeSlot_] = 1.0;  // the rates in time along the dense output
       d.at(tr, ytmp_);
       lambdaTmp_ = s.lambda;
+      wo_.slip = stepSlip_;
       evaluate(m, ytmp_, stepActive_, lambdaTmp_, wo_, ydotTmp_);
       forceOutputs(wo_);
       record(t, wo_, lambdaTmp_, stepActive_, wo_);
@@ -506,7 +527,8 @@ template <class S> class DropObserver {
     for (int r : bottomRows_)
       if (s.active[r] && !F_.bottomed) {
         F_.bottomed = true;
-        for (size_t k = 0; k < end_.sdot.size(); ++k) bottomSpeed_ = std::max(bottomSpeed_, value(end_.sdot[k]));
+        for (size_t k = 0; k < end_.sdot.size(); ++k)  // (an arrival at rest may read a round-off below 0)
+          bottomSpeed_ = std::max(bottomSpeed_, std::max(0.0, value(end_.sdot[k])));
       }
     for (size_t k = 0; k < strutBottomed_.size(); ++k) {
       const int stop = k < sc_.roles.bottomingStops.size() ? sc_.roles.bottomingStops[k] : -1;
@@ -544,7 +566,7 @@ template <class S> class DropObserver {
     return simpson(fa, fm, a.Pa[k] * a.sdot[k], t1 - t);
   }
   // Updates the running maximum 'best' of a channel. If its rate goes from + to - inside the step, the
-  // maximum is located on the dense output (golden section on values). Returns true if the maximum
+  // maximum is located on the dense output (Brent's search on values). Returns true if the maximum
   // moved; 'tFound' (optional) receives the time of an interior maximum (-1 if the end holds it).
   template <class F>
   bool refine(const S& rate0, const S& rate1, const S& t0, const S& t1, const DenseOutput<S>& d, F f, S& best, S* tBest,
@@ -556,27 +578,49 @@ template <class S> class DropObserver {
         channelsAt(S(t), d, scratch_);
         return value(f(scratch_));
       };
-      const double gr = 0.5 * (std::sqrt(5.0) - 1);
-      const double T1 = value(t1);
-      double a = value(t0), b = T1;
-      double c = b - gr * (b - a), e = a + gr * (b - a);
-      double fc = at(c), fe = at(e);
-      for (int it = 0; it < 60 && b - a > 1e-13 * std::max(1.0, T1); ++it) {
-        if (fc > fe) {
-          b = e;
-          e = c;
-          fe = fc;
-          c = b - gr * (b - a);
-          fc = at(c);
+      // Brent's minimisation of -f (golden sections and parabolic steps, Forsythe, Malcolm & Moler's
+      // fmin; tolerance sqrt(eps) |t| + 1e-13, where the values are equal to round-off).
+      const double cgold = 0.5 * (3.0 - std::sqrt(5.0)), sqeps = std::sqrt(2.2e-16);
+      const double tol = 1e-13 * std::max(1.0, value(t1));
+      double a = value(t0), b = value(t1), x = a + cgold * (b - a), wv = x, vv = x, e = 0, dd = 0;
+      double fx = -at(x), fw = fx, fv = fx;
+      for (int it = 0; it < 100; ++it) {
+        const double xm = 0.5 * (a + b), tol1 = sqeps * std::abs(x) + tol / 3, tol2 = 2 * tol1;
+        if (std::abs(x - xm) <= tol2 - 0.5 * (b - a)) break;
+        bool golden = true;
+        if (std::abs(e) > tol1) {  // a parabola through x, w, v
+          double r = (x - wv) * (fx - fv), q = (x - vv) * (fx - fw), p = (x - vv) * q - (x - wv) * r;
+          q = 2 * (q - r);
+          if (q > 0) p = -p;
+          q = std::abs(q);
+          const double eOld = e;
+          e = dd;
+          if (std::abs(p) < std::abs(0.5 * q * eOld) && p > q * (a - x) && p < q * (b - x)) {
+            dd = p / q;
+            const double u = x + dd;
+            if (u - a < tol2 || b - u < tol2) dd = xm >= x ? tol1 : -tol1;
+            golden = false;
+          }
+        }
+        if (golden) {
+          e = (x >= xm ? a : b) - x;
+          dd = cgold * e;
+        }
+        const double u = std::abs(dd) >= tol1 ? x + dd : x + (dd > 0 ? tol1 : -tol1);
+        const double fu = -at(u);
+        if (fu <= fx) {
+          (u >= x ? a : b) = x;
+          vv = wv, fv = fw, wv = x, fw = fx, x = u, fx = fu;
         } else {
-          a = c;
-          c = e;
-          fc = fe;
-          e = a + gr * (b - a);
-          fe = at(e);
+          (u < x ? a : b) = u;
+          if (fu <= fw || wv == x) {
+            vv = wv, fv = fw, wv = u, fw = fu;
+          } else if (fu <= fv || vv == x || vv == wv) {
+            vv = u, fv = fu;
+          }
         }
       }
-      const double tm = 0.5 * (a + b);
+      const double tm = x;
       channelsAt(S(tm), d, scratch_);
       const S vm = f(scratch_);
       lastRefinedTime_ = tm;
@@ -614,6 +658,8 @@ template <class S> class DropObserver {
   long nextRow_ = 0;          // next dense output row (outputTimes, outputInterval)
   std::vector<std::vector<S>>* rows_ = nullptr;  // recordRows
   std::vector<char> stepActive_;  // the contact mode of the step in progress (rows on the dense output)
+  std::vector<signed char> stepSlip_;  // and its friction locks' slip directions
+  std::vector<int> lockRows_;          // the friction-lock rows (exact Coulomb struts)
   int timeSlot_ = -1;
   Channels prev_, end_, mid_, after_, scratch_;
   CaseFigures<S> F_;
@@ -626,6 +672,7 @@ template <class S> class DropObserver {
   double bottomSpeed_ = -1;
   std::vector<double> stickStart_;
   std::vector<bool> moved_, strutBottomed_;
+  std::vector<bool> regularised_;  // per strut: regularised friction (its sticks are watched for the kink notes)
   long steps_ = 0;
 };
 

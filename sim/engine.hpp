@@ -32,8 +32,8 @@ template <class S> void kinematics(const Model<S>& m, const VecX<S>& y, Workspac
   for (int b = 0; b < N; ++b) {
     BodyKin<S>& K = w.kin[b];
     const Body<S>& B = m.bodies[b];
-    K.Iw = K.R * B.inertia.asDiagonal() * K.R.transpose();
     K.IwInv = K.R * B.inertia.cwiseInverse().asDiagonal() * K.R.transpose();
+    K.I0 = B.inertia;
     K.mass = B.mass;
     K.invMass = S(1) / B.mass;
   }
@@ -46,7 +46,7 @@ template <class S> void forces(const Model<S>& m, Workspace<S>& w) {
   const int N = m.nBodies();
   for (int b = 0; b < N; ++b) {
     w.wrench[b].template head<3>().setZero();
-    w.wrench[b].template tail<3>() = -w.kin[b].w.cross(w.kin[b].Iw * w.kin[b].w);
+    w.wrench[b].template tail<3>() = -w.kin[b].w.cross(w.kin[b].angularMomentum());
   }
   const Kins<S> K = w.kins();
   const Wrenches<S> W{w.wrench.data()};
@@ -61,18 +61,32 @@ template <class S> void forces(const Model<S>& m, Workspace<S>& w) {
         m.forces[f].type);
   }
   for (int b = 0; b < N; ++b) {
-    w.aFree[b].template head<3>() = w.kin[b].invMass * w.wrench[b].template head<3>();
-    w.aFree[b].template tail<3>() = w.kin[b].IwInv * w.wrench[b].template tail<3>();
+    const BodyKin<S>& K = w.kin[b];
+    if (K.mobility == kFree) {
+      w.aFree[b].template head<3>() = K.invMass * w.wrench[b].template head<3>();
+      w.aFree[b].template tail<3>() = K.IwInv * w.wrench[b].template tail<3>();
+    } else {
+      w.aFree[b] = K.invMassTimes(w.wrench[b].template head<3>(), w.wrench[b].template tail<3>());
+    }
   }
 }
 
 // ---- stage: constraint rows ----------------------------------------------------------------------
+// Every row at the current kinematics: the constraints', then the friction locks of the force elements
+// (written whether enforced or not: a slipping lock's J V is the rate its slip event watches).
 template <class S> void constraintRows(const Model<S>& m, Workspace<S>& w) {
   ScopedStage timer(w.timer, kRows, m.settings.profile);
   const Kins<S> K = w.kins();
   for (size_t c = 0; c < m.constraints.size(); ++c) {
+    if (m.rowOffset[c] < 0) continue;  // a joint to the ground eliminated into its body's mobility
     Row<S>* rows = w.rows.data() + m.rowOffset[c];
     std::visit([&](const auto& con) { con.write(K[con.bi], K[con.bj], rows); }, m.constraints[c].type);
+  }
+  for (size_t f = 0; f < m.forces.size(); ++f) {
+    if (m.lockRow[f] < 0) continue;
+    Row<S>& row = w.rows[m.lockRow[f]];
+    std::visit([&](const auto& e) { if constexpr (requires { e.writeLock(K, row); }) e.writeLock(K, row); },
+               m.forces[f].type);
   }
 }
 
@@ -111,13 +125,18 @@ template <class S> bool multipliers(const Model<S>& m, const std::vector<char>& 
   const S alpha2(2 * m.settings.baumgarteAlpha), beta2(m.settings.baumgarteBeta * m.settings.baumgarteBeta);
   for (size_t a = 0; a < w.list.size(); ++a) {
     const int k = w.list[a];
-    w.b[a] = -w.rows[k].gamma - rowDot(m, w, k, w.aFree);
+    const RowInfo& ri = m.rowInfo[k];
+    S Ja = S(0);
+    if (ri.bi >= 0) Ja += dot6(w.rows[k].Ji.data(), w.aFree[ri.bi].data());
+    if (ri.bj >= 0) Ja += dot6(w.rows[k].Jj.data(), w.aFree[ri.bj].data());
+    w.b[a] = -w.rows[k].gamma - Ja;
     if (baumgarte) w.b[a] -= alpha2 * rowVelocity(m, w, k) + beta2 * w.rows[k].C;
     w.lam[a] = lambdaAll[k];  // warm start
   }
   const bool ok = solveEquality(m, w, false);
   for (int k = 0; k < m.nRows; ++k) lambdaAll[k] = S(0);
   for (size_t a = 0; a < w.list.size(); ++a) lambdaAll[w.list[a]] = w.lam[a];
+  w.rowLambda = lambdaAll;
   return ok;
 }
 
@@ -136,8 +155,7 @@ template <class S> void dampingResponse(const Model<S>& m, Workspace<S>& w) {
     for (auto& z : w.zb) z.setZero();
     auto addBody = [&](int b, const Vec6<S>& G) {
       if (b < 0) return;
-      w.zb[b].template head<3>() += w.kin[b].invMass * G.template head<3>();
-      w.zb[b].template tail<3>() += w.kin[b].IwInv * G.template tail<3>();
+      w.zb[b] += w.kin[b].invMassTimes(G.template head<3>(), G.template tail<3>());
     };
     addBody(d.bi, d.Gi);
     addBody(d.bj, d.Gj);
@@ -208,7 +226,7 @@ template <class S> EnergyReport<S> energy(const Model<S>& m, const State<S>& s, 
   EnergyReport<S> e;
   for (int b = 0; b < m.nBodies(); ++b) {
     const BodyKin<S>& K = w.kin[b];
-    e.kinetic += S(0.5) * K.mass * K.v.squaredNorm() + S(0.5) * K.w.dot(K.Iw * K.w);
+    e.kinetic += S(0.5) * K.mass * K.v.squaredNorm() + S(0.5) * K.w.dot(K.angularMomentum());
   }
   const Kins<S> K = w.kins();
   for (const auto& f : m.forces) e.stored += std::visit([&](const auto& el) { return el.stored(K); }, f.type);
@@ -239,6 +257,24 @@ template <class S> void applyCorrection(const Model<S>& m, Workspace<S>& w, VecX
   }
 }
 
+// Puts the velocity of every guided or immobile body (Model::finalize) in its subspace: v along its axis
+// (the mass-weighted projection: translation only, isotropic mass), no rotation.
+// Returns whether a velocity changed.
+template <class S> bool projectMobility(const Model<S>& m, VecX<S>& y) {
+  const int N = m.nBodies();
+  bool changed = false;
+  for (int b = 0; b < N; ++b) {
+    if (m.mobility[b] == kFree) continue;
+    const Vec6<S> before = y.template segment<6>(7 * N + 6 * b);
+    auto v = y.template segment<3>(7 * N + 6 * b);
+    if (m.mobility[b] == kTranslation) v = m.mobilityAxis[b] * m.mobilityAxis[b].dot(Vec3<S>(v));
+    else v.setZero();
+    y.template segment<3>(7 * N + 6 * b + 3).setZero();
+    for (int i = 0; i < 6; ++i) changed = changed || value(before[i]) != value(y[7 * N + 6 * b + i]);
+  }
+  return changed;
+}
+
 // Keeps every quaternion of unit length.
 template <class S> void normalizeQuaternions(const Model<S>& m, VecX<S>& y) {
   for (int b = 0; b < m.nBodies(); ++b) {
@@ -265,11 +301,19 @@ template <class S> void violation(const Model<S>& m, const std::vector<char>& ac
 // tiny (a step's drift), so J M^-1 J^T is factored once, at the first iterate (simplified Newton): each
 // further iteration contracts the violation by |I - A A_0^-1| ~ the relative change of A (~1e-6), and
 // the velocity projection leaves |J V| at that fraction of its start. Iterates to 1 % of the tolerance.
-template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w) {
+// With 'factorNearby' the caller says that the workspace holds the factor of J M^-1 J^T (and W) for these
+// rows at a nearby state (the step's last evaluation): the Gauss-Newton iteration uses it instead of
+// factoring anew (it then contracts by the relative change of A over that distance, ~1e-3 for a stage
+// of the step, and takes the same two or three iterations).
+template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w, bool factorNearby = false) {
   ScopedStage timer(w.timer, kStabilise, m.settings.profile);
   normalizeQuaternions(m, s.y);
   const double tol = m.settings.projectionTolerance;
   bool factored = false;
+  if (factorNearby && m.settings.solver == MultiplierSolver::Direct) {
+    listActiveRows(m, s.active, w);
+    factored = w.pairList == w.list;  // the factor in the workspace is of this row list
+  }
   auto factorOnce = [&]() {
     if (factored) return true;
     listActiveRows(m, s.active, w);
@@ -278,26 +322,32 @@ template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w)
     factored = true;
     return factorA(w);
   };
+  bool current = false;  // kinematics and rows at the final positions
   for (int it = 0; it < 8; ++it) {
     kinematics(m, s.y, w);
     constraintRows(m, w);
     double pos, vel;
     violation(m, s.active, w, pos, vel);
-    if (pos <= 0.01 * tol) break;
+    if (pos <= 0.01 * tol) {
+      current = true;
+      break;
+    }
     if (!factorOnce()) return false;
     for (size_t a = 0; a < w.list.size(); ++a) w.lam[a] = -w.rows[w.list[a]].C;
     solveA(w, w.lam);
     applyCorrection(m, w, s.y, true);
   }
-  kinematics(m, s.y, w);
-  constraintRows(m, w);
+  if (projectMobility(m, s.y)) current = false;
+  if (!current) {
+    kinematics(m, s.y, w);
+    constraintRows(m, w);
+  }
   if (factored) computeW(m, w);     // the correction directions at the final positions
   else if (!factorOnce()) return false;  // (no position iteration: W and the factor are current)
   for (size_t a = 0; a < w.list.size(); ++a) w.lam[a] = -rowVelocity(m, w, w.list[a]);
   solveA(w, w.lam);
   applyCorrection(m, w, s.y, false);
-  kinematics(m, s.y, w);
-  return true;
+  return true;  // (the workspace's velocities are those before the correction: callers evaluate anew)
 }
 
 // ---- stage: events (contact modes) ---------------------------------------------------------------
@@ -307,8 +357,11 @@ template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w)
 // the kinetic energy it removes is booked as dissipated. Then the acceleration-level LCP decides
 // which candidates stay enforced (lambda > 0) and which separate.
 // Returns the number of stops whose mode changed, or -1 on a solver failure.
+template <class S> int resolveFriction(const Model<S>& m, State<S>& s, Workspace<S>& w);
+
 template <class S> int resolveContacts(const Model<S>& m, State<S>& s, Workspace<S>& w) {
   ScopedStage timer(w.timer, kEvents, m.settings.profile);
+  w.slip = s.slip;
   kinematics(m, s.y, w);
   forces(m, w);
   constraintRows(m, w);
@@ -330,12 +383,15 @@ template <class S> int resolveContacts(const Model<S>& m, State<S>& s, Workspace
     int changed = 0;
     for (int k = 0; k < m.nRows; ++k)
       if (m.rowInfo[k].unilateral && s.active[k]) { s.active[k] = 0; ++changed; }
-    return changed;
+    const int fr = resolveFriction(m, s, w);
+    return fr < 0 ? -1 : changed + fr;
   }
+  // The stops are decided without the friction locks (a stop between the strut's own bodies would
+  // repeat a lock's row); resolveFriction then decides the locks given the stops.
   auto buildList = [&]() {
     w.list.clear();
     for (int k = 0; k < m.nRows; ++k)
-      if (!m.rowInfo[k].unilateral || w.candidate[k]) w.list.push_back(k);
+      if (!m.rowInfo[k].friction() && (!m.rowInfo[k].unilateral || w.candidate[k])) w.list.push_back(k);
     computeW(m, w);
     assembleA(m, w);
   };
@@ -360,14 +416,90 @@ template <class S> int resolveContacts(const Model<S>& m, State<S>& s, Workspace
   int changed = 0;
   for (int k = 0; k < m.nRows; ++k)
     if (m.rowInfo[k].unilateral && !w.candidate[k] && s.active[k]) { s.active[k] = 0; ++changed; }
+  // A stop whose multiplier is zero to round-off (relative to the largest of the solve) is not
+  // enforced: a strut whose friction just reached its bound leaves its stop with the stop's reaction
+  // exactly zero.
+  double lamScale = 0;
+  for (size_t a = 0; a < w.list.size(); ++a) lamScale = std::max(lamScale, std::abs(value(w.lam[a])));
   for (size_t a = 0; a < w.list.size(); ++a) {
     const int k = w.list[a];
     if (!m.rowInfo[k].unilateral) continue;
-    const char on = value(w.lam[a]) > 0 ? 1 : 0;
+    const char on = value(w.lam[a]) > 1e-12 * lamScale ? 1 : 0;
     if (on != s.active[k]) ++changed;
     s.active[k] = on;
     s.lambda[k] = w.lam[a];
   }
+  const int fr = resolveFriction(m, s, w);
+  return fr < 0 ? -1 : changed + fr;
+}
+
+// ---- friction modes (sim/forces/friction_lock.hpp) ------------------------------------------------
+// The friction bound F_max of lock row k at the current kinematics.
+template <class S> S frictionBound(const Model<S>& m, const Workspace<S>& w, int k) {
+  const Kins<S> K = w.kins();
+  return std::visit(
+      [&](const auto& e) -> S {
+        if constexpr (requires { e.frictionBound(K); }) return e.frictionBound(K);
+        else return S(0);
+      },
+      m.forces[m.rowInfo[k].force].type);
+}
+
+// Is lock row k held by an enforced stop between the same two bodies?
+template <class S> bool frictionHeld(const Model<S>& m, const State<S>& s, int k) {
+  const RowInfo& f = m.rowInfo[k];
+  for (int r = 0; r < m.nRows; ++r) {
+    const RowInfo& ri = m.rowInfo[r];
+    if (ri.unilateral && s.active[r] && ((ri.bi == f.bi && ri.bj == f.bj) || (ri.bi == f.bj && ri.bj == f.bi)))
+      return true;
+  }
+  return false;
+}
+
+// Sets the slip direction of lock row k in the state and in the workspace's copy (what the force
+// elements read).
+template <class S> void setSlip(State<S>& s, Workspace<S>& w, int k, int sigma) {
+  s.slip[k] = static_cast<signed char>(sigma);
+  w.slip[k] = static_cast<signed char>(sigma);
+}
+
+// Decides the mode of every friction lock that is at rest and undecided (not stuck, not slipping: its
+// rate stopped, its stop let go, or the run starts), and holds the locks of struts whose stop is
+// enforced. A lock at rest sticks if the acceleration-level problem with it enforced needs
+// |lambda| <= F_max, else it slips with sigma = -sgn(lambda). Kinematics, forces and rows must be
+// current. Returns the number of locks whose mode changed, or -1 on a solver failure.
+template <class S> int resolveFriction(const Model<S>& m, State<S>& s, Workspace<S>& w) {
+  int changed = 0;
+  for (size_t f = 0; f < m.forces.size(); ++f) {
+    const int k = m.lockRow[f];
+    if (k < 0) continue;
+    if (frictionHeld(m, s, k)) {
+      if (s.active[k] || s.slip[k]) ++changed;
+      s.active[k] = 0;
+      setSlip(s, w, k, 0);
+      continue;
+    }
+    if (s.active[k] || s.slip[k]) continue;  // stuck or slipping: its events decide
+    const double rate = value(rowVelocity(m, w, k));
+    if (std::abs(rate) > 1e-6) {  // [m/s] not at rest after all: it slips the way it moves
+      setSlip(s, w, k, rate > 0 ? 1 : -1);
+      ++changed;
+      continue;
+    }
+    s.active[k] = 1;  // try to stick
+    forces(m, w);                            // (the lock's friction term is off while it is tried)
+    if (!multipliers(m, s.active, s.lambda, w)) return -1;
+    const S lam = s.lambda[k];
+    if (std::abs(value(lam)) <= value(frictionBound(m, w, k))) {
+      ++changed;
+      continue;
+    }
+    s.active[k] = 0;
+    s.lambda[k] = S(0);
+    setSlip(s, w, k, value(lam) > 0 ? -1 : 1);
+    ++changed;
+  }
+  if (changed) forces(m, w);
   return changed;
 }
 

@@ -18,6 +18,7 @@
 
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 #include "sim/engine.hpp"
 
@@ -69,22 +70,42 @@ template <class S> struct DenseOutput {
 
 // Event functions at the current workspace (rows, multipliers and force events must be current):
 // free stop: C + contactTolerance |dC/dp| (it triggers on reaching the contact band, so a stop that was
-// let go at C = 0 is still watched); enforced stop: lambda; bilateral row: 0 (never triggers); then the force events.
+// let go at C = 0 is still watched); enforced stop: lambda; friction lock: F_max - |lambda| while stuck,
+// sigma sdot while slipping, 0 while held; bilateral row: 0 (never triggers); then the force events.
 template <class S>
 void eventFunctions(const Model<S>& m, const State<S>& s, const VecX<S>& lambda, const Workspace<S>& w, VecX<S>& g) {
   const S shift(m.settings.contactTolerance);
   for (int k = 0; k < m.nRows; ++k) {
-    if (!m.rowInfo[k].unilateral) g[k] = S(0);
-    else if (s.active[k]) g[k] = lambda[k];
-    else g[k] = w.rows[k].C + shift * w.rows[k].Ji.template head<3>().norm();
+    const RowInfo& ri = m.rowInfo[k];
+    if (ri.friction()) {
+      if (s.active[k]) g[k] = frictionBound(m, w, k) - (value(lambda[k]) < 0 ? -lambda[k] : lambda[k]);
+      else g[k] = S(s.slip[k]) * rowVelocity(m, w, k);
+    } else if (!ri.unilateral) {
+      g[k] = S(0);
+    } else if (s.active[k]) {
+      g[k] = lambda[k];
+    } else {
+      g[k] = w.rows[k].C + shift * w.rows[k].Ji.template head<3>().norm();
+    }
   }
   for (int e = 0; e < m.nForceEvents; ++e) g[m.nRows + e] = w.forceEvents[e];
 }
 
-// Does event function i trigger between g0 and g1, and is g on its "after" side?
+// The rates dC/dt = J V of the free stops (0 for every other row): where a stop's rate turns from
+// approaching to receding inside a step, its function may dip below zero and back between two
+// positive ends (a loose step through a stop); handleEvents looks there.
+template <class S> void freeStopRates(const Model<S>& m, const State<S>& s, const Workspace<S>& w, VecX<S>& r) {
+  for (int k = 0; k < m.nRows; ++k) {
+    const RowInfo& ri = m.rowInfo[k];
+    r[k] = (ri.unilateral && !ri.friction() && !s.active[k]) ? rowVelocity(m, w, k) : S(0);
+  }
+}
+
+// Does event function i trigger between g0 and g1, and is g on its "after" side? Stops and friction
+// locks alike: an enforced row whenever its function ends negative, a free one on crossing zero.
 template <class S> bool eventTriggered(const Model<S>& m, const State<S>& s, int i, double g0, double g1) {
   if (i < m.nRows) {
-    if (!m.rowInfo[i].unilateral) return false;
+    if (!m.rowInfo[i].unilateral && !m.rowInfo[i].friction()) return false;
     return s.active[i] ? (g1 < 0) : (g0 > 0 && g1 <= 0);
   }
   return g0 * g1 < 0;
@@ -203,6 +224,8 @@ template <class S> class Integrator {
     RunStatus st;
     const Settings& cfg = m_.settings;
     w_.needDampingResponse = isRosenbrock(cfg.integrator);
+    w_.slip = s_.slip;
+    projectMobility(m_, s_.y);  // a guided or immobile body's velocity into its subspace
     // Initial contact modes (and impacts if a stop starts approaching), then a consistent state.
     if (resolveContacts(m_, s_, w_) < 0) return fail(st, "contact solve failed at the start");
     if (cfg.stabilization != Stabilization::None && !project(m_, s_, w_))
@@ -224,6 +247,14 @@ template <class S> class Integrator {
       ++st.steps;
       obs.onStep(m_, s_, w_, dense_);
     }
+    // An event whose time depends on the parameters (a stop reached, a strut breaking away) moves every
+    // later step by that much: the run ends at tEnd in value but at tEnd + dt_event/dp in derivative.
+    // The state at tEnd itself: y(tEnd) = y - dy/dt (t - tEnd), to first order in the derivative part.
+    if constexpr (!std::is_same_v<S, double>) {
+      const S dt = derivativePart(s_.t);
+      s_.y -= w_.ydot * dt;
+      s_.t -= dt;
+    }
     return st;
   }
 
@@ -238,6 +269,7 @@ template <class S> class Integrator {
   bool refresh() {
     const bool ok = evaluate(m_, s_.y, s_.active, s_.lambda, w_, w_.ydot);
     eventFunctions(m_, s_, s_.lambda, w_, w_.g0);
+    freeStopRates(m_, s_, w_, w_.gRate0);
     forceOutputs();
     return ok && allFinite(w_.ydot);
   }
@@ -268,7 +300,7 @@ template <class S> class Integrator {
       return true;
     }
     ++st.projections;
-    return project(m_, s_, w_);
+    return project(m_, s_, w_, /*factorNearby=*/true);  // the step's last evaluation factored A nearby
   }
 
   // After an accepted step or event whose end was evaluated: stabilise if needed, then refresh f and g.
@@ -286,8 +318,9 @@ template <class S> class Integrator {
     int first = -1;
     double tFirst = 0;
     for (int i = 0; i < nG; ++i) {
-      if (!eventTriggered(m_, s_, i, value(w_.g0[i]), value(w_.g1[i]))) continue;
-      const double te = locate(dense, i);
+      double tb = value(dense.t0) + dense.h, gb = value(w_.g1[i]);
+      if (!eventTriggered(m_, s_, i, value(w_.g0[i]), gb) && !dipsThrough(dense, i, tb, gb)) continue;
+      const double te = locate(dense, i, tb, gb);
       if (first < 0 || te < tFirst) {
         first = i;
         tFirst = te;
@@ -298,8 +331,9 @@ template <class S> class Integrator {
     ++st.events;
     ScopedStage timer(w_.timer, kEvents, m_.settings.profile);
     // The event time carries the derivatives of g (one Newton correction in S); its value is tFirst.
+    // (For double there are no derivatives: only a stuck friction lock needs its reaction's sign there.)
     S te = S(tFirst);
-    {
+    if constexpr (!std::is_same_v<S, double>) {
       dense.at(te, w_.ytmp);
       w_.lamTmp = s_.lambda;
       evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);
@@ -312,22 +346,124 @@ template <class S> class Integrator {
       eventFunctions(m_, s_, w_.lamTmp, w_, w_.g2);
       const double slope = (ga - value(w_.g2[first])) / dt;
       if (std::abs(slope) > 0) te -= derivativePart(w_.gtmp[first]) / S(slope);
+    } else if (first < m_.nRows && m_.rowInfo[first].friction() && s_.active[first]) {
+      dense.at(te, w_.ytmp);
+      w_.lamTmp = s_.lambda;
+      evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);
     }
     dense.at(te, s_.y);
     s_.t = te;
-    // Act on it: a stop whose multiplier would pull is let go; then the contact modes are resolved
-    // (impacts for a stop arriving) for every stop at once.
-    if (first < m_.nRows && s_.active[first] && value(w_.g1[first]) < 0) s_.active[first] = 0;
+    // Act on it: a stop whose multiplier would pull is let go; a stuck friction lock whose reaction
+    // reached its bound slips (against the reaction); a slipping one that stopped is at rest. Then the
+    // contact modes are resolved (impacts for a stop arriving) for every stop at once, and the friction
+    // locks at rest are decided.
+    if (first < m_.nRows && m_.rowInfo[first].friction()) {
+      if (s_.active[first]) {
+        s_.active[first] = 0;
+        setSlip(s_, w_, first, value(w_.lamTmp[first]) > 0 ? -1 : 1);
+      } else {
+        setSlip(s_, w_, first, 0);
+      }
+    } else if (first < m_.nRows && s_.active[first] && value(w_.g1[first]) < 0) {
+      s_.active[first] = 0;
+    }
     if (resolveContacts(m_, s_, w_) < 0) return false;
     if (m_.settings.stabilization != Stabilization::None && !project(m_, s_, w_)) return false;
     return true;
   }
 
-  // Earliest root of event function i on the dense output (Illinois), returned on its "after" side.
-  double locate(const DenseOutput<S>& dense, int i) {
+  // Does event function i need the multipliers (an enforced stop or a stuck friction lock), or only
+  // the positions and velocities (a free stop's C, a slip's rate, a force element's event)?
+  bool eventNeedsSolve(int i) const { return i < m_.nRows && s_.active[i]; }
+
+  // Event function i on the dense output at time t. Those of positions and velocities need the poses
+  // and one row or one element only; the others a full evaluation.
+  double eventValueAt(const DenseOutput<S>& dense, int i, double t) {
+    dense.at(S(t), w_.ytmp);
+    if (eventNeedsSolve(i)) {
+      evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);
+      eventFunctions(m_, s_, w_.lamTmp, w_, w_.gtmp);
+      return value(w_.gtmp[i]);
+    }
+    poses(m_, w_.ytmp, w_);
+    const Kins<S> K = w_.kins();
+    if (i >= m_.nRows) {
+      const int e = i - m_.nRows;
+      for (size_t f = 0; f < m_.forces.size(); ++f) {
+        const int first = m_.eventOffset[f], count = (f + 1 < m_.forces.size() ? m_.eventOffset[f + 1] : m_.nForceEvents) - first;
+        if (e < first || e >= first + count) continue;
+        std::visit([&](const auto& el) { el.events(K, w_.forceEvents.data() + first); }, m_.forces[f].type);
+        return value(w_.forceEvents[e]);
+      }
+      return 0.0;
+    }
+    constraintRows(m_, w_);  // (all rows: one constraint's would do, the lock rows come last)
+    if (m_.rowInfo[i].friction()) return value(S(s_.slip[i]) * rowVelocity(m_, w_, i));
+    return value(w_.rows[i].C + S(m_.settings.contactTolerance) * w_.rows[i].Ji.template head<3>().norm());
+  }
+
+  // A free stop whose function is positive at both ends of the step but turns from approaching to
+  // receding inside it: its minimum on the dense output (Brent's search, stopped at the first value on
+  // the "after" side) may lie below zero, a contact the ends do not show. If so, returns true with
+  // (tb, gb) a point after the crossing, the right end of the bracket for locate.
+  bool dipsThrough(const DenseOutput<S>& dense, int i, double& tb, double& gb) {
+    if (i >= m_.nRows || !m_.rowInfo[i].unilateral || m_.rowInfo[i].friction() || s_.active[i]) return false;
+    if (!(value(w_.g0[i]) > 0 && value(w_.g1[i]) > 0 && value(w_.gRate0[i]) < 0 && value(w_.gRate1[i]) > 0)) return false;
     ScopedStage timer(w_.timer, kEvents, m_.settings.profile);
-    double ta = value(dense.t0), tb = ta + dense.h;
-    double ga = value(w_.g0[i]), gb = value(w_.g1[i]);
+    const double cgold = 0.5 * (3.0 - std::sqrt(5.0)), t0 = value(dense.t0), tol = 1e-6 * dense.h;
+    double a = t0, b = t0 + dense.h, x = a + cgold * (b - a), wv = x, vv = x, e = 0, d = 0;
+    double fx = eventValueAt(dense, i, x), fw = fx, fv = fx;
+    for (int it = 0; it < 60 && fx > 0; ++it) {
+      const double xm = 0.5 * (a + b), tol1 = tol, tol2 = 2 * tol1;
+      if (std::abs(x - xm) <= tol2 - 0.5 * (b - a)) break;
+      bool golden = true;
+      if (std::abs(e) > tol1) {  // a parabola through x, w, v
+        double r = (x - wv) * (fx - fv), q = (x - vv) * (fx - fw), p = (x - vv) * q - (x - wv) * r;
+        q = 2 * (q - r);
+        if (q > 0) p = -p;
+        q = std::abs(q);
+        const double eOld = e;
+        e = d;
+        if (std::abs(p) < std::abs(0.5 * q * eOld) && p > q * (a - x) && p < q * (b - x)) {
+          d = p / q;
+          if (x + d - a < tol2 || b - x - d < tol2) d = xm >= x ? tol1 : -tol1;
+          golden = false;
+        }
+      }
+      if (golden) {
+        e = (x >= xm ? a : b) - x;
+        d = cgold * e;
+      }
+      const double u = std::abs(d) >= tol1 ? x + d : x + (d > 0 ? tol1 : -tol1);
+      const double fu = eventValueAt(dense, i, u);
+      if (fu <= fx) {
+        (u >= x ? a : b) = x;
+        vv = wv, fv = fw, wv = x, fw = fx, x = u, fx = fu;
+      } else {
+        (u < x ? a : b) = u;
+        if (fu <= fw || wv == x) {
+          vv = wv, fv = fw, wv = u, fw = fu;
+        } else if (fu <= fv || vv == x || vv == wv) {
+          vv = u, fv = fu;
+        }
+      }
+    }
+    if (fx > 0) {  // no contact: the workspace's poses and rows back at the step's end
+      poses(m_, s_.y, w_);
+      constraintRows(m_, w_);
+      return false;
+    }
+    tb = x;
+    gb = fx;
+    return true;
+  }
+
+  // Earliest root of event function i on the dense output (Illinois) in [t0, tb] (g(tb) = gb on the
+  // "after" side), returned on its "after" side.
+  double locate(const DenseOutput<S>& dense, int i, double tbIn, double gbIn) {
+    ScopedStage timer(w_.timer, kEvents, m_.settings.profile);
+    double ta = value(dense.t0), tb = tbIn;
+    double ga = value(w_.g0[i]), gb = gbIn;
     const bool unilateralActive = i < m_.nRows && s_.active[i];
     auto after = [&](double g) {
       if (i < m_.nRows) return unilateralActive ? g < 0 : g <= 0;
@@ -338,10 +474,7 @@ template <class S> class Integrator {
     for (int it = 0; it < 200 && tb - ta > m_.settings.eventTolerance; ++it) {
       double tc = (ga == gb) ? 0.5 * (ta + tb) : tb - gb * (tb - ta) / (gb - ga);
       if (!(tc > ta && tc < tb)) tc = 0.5 * (ta + tb);
-      dense.at(S(tc), w_.ytmp);
-      evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);
-      eventFunctions(m_, s_, w_.lamTmp, w_, w_.gtmp);
-      const double gc = value(w_.gtmp[i]);
+      const double gc = eventValueAt(dense, i, tc);
       if (after(gc)) {
         tb = tc;
         gb = gc;
@@ -379,6 +512,29 @@ template <class S> class Integrator {
       return Trial::Fail;
     }
     return Trial::Retry;
+  }
+
+  // A friction lock that started slipping at rest (its rate zero at the step's start) and ends the step
+  // moving against its slip direction: the slip was shorter than the step, which must not cross it
+  // unseen (the segment's law would then drive the motion). Rows must be current at the step's end.
+  bool slipReversedUnseen() const {
+    for (int k = 0; k < m_.nRows; ++k) {
+      if (!m_.rowInfo[k].friction() || s_.active[k] || s_.slip[k] == 0) continue;
+      if (value(w_.g0[k]) <= 0 && s_.slip[k] * value(rowVelocity(m_, w_, k)) < 0) return true;
+    }
+    return false;
+  }
+  // Such a step is retried at a quarter of its size; when it is down to the event tolerance, the slip is
+  // over: the lock is at rest at the step's end, and its mode is decided there (resolveFriction).
+  static constexpr double kSlipRetryFloor = 1e-9;  // [s]
+  bool settleUnseenSlips(RunStatus& st) {
+    for (int k = 0; k < m_.nRows; ++k)
+      if (m_.rowInfo[k].friction() && !s_.active[k] && s_.slip[k] != 0 && value(w_.g0[k]) <= 0 &&
+          s_.slip[k] * value(rowVelocity(m_, w_, k)) < 0)
+        setSlip(s_, w_, k, 0);
+    ++st.events;
+    if (resolveContacts(m_, s_, w_) < 0) return false;
+    return m_.settings.stabilization == Stabilization::None || project(m_, s_, w_);
   }
 
   // The events of an accepted adaptive step: if one triggered, the step ends on it ('ended'); the dense
@@ -449,12 +605,26 @@ template <class S> class Integrator {
       s_.y = w_.y1;
       s_.t = s_.t + S(h);
       eventFunctions(m_, s_, s_.lambda, w_, w_.g1);
+      freeStopRates(m_, s_, w_, w_.gRate1);
+      if (slipReversedUnseen()) {  // (rows are at y1: the last stage is there)
+        if (h > kSlipRetryFloor) {
+          s_.y = w_.y0;
+          s_.t = s_.t - S(h);
+          h *= 0.25;
+          ++st.rejected;
+          continue;
+        }
+        if (!settleUnseenSlips(st) || !refresh()) return failNonFinite(st);
+        hNext = std::max(h, 1e-8);
+        return true;
+      }
       bool ended = false;
       if (!endOnEvent(h, hNext, st, ended)) return false;
       if (ended) return true;
       // Smooth step: first same as last.
       w_.ydot = k[6];
       w_.g0 = w_.g1;
+      w_.gRate0 = w_.gRate1;
       forceOutputs();
       if (!afterStep(st)) {
         fail(st, "projection failed");
@@ -586,6 +756,13 @@ template <class S> class Integrator {
       s_.t = s_.t + S(h);
       kinematics(m_, s_.y, w_);
       constraintRows(m_, w_);
+      if (slipReversedUnseen() && h > kSlipRetryFloor) {
+        s_.y = w_.y0;
+        s_.t = s_.t - S(h);
+        h *= 0.25;
+        ++st.rejected;
+        continue;
+      }
       bool projected = false;
       if (!stabilise(st, projected)) {
         fail(st, "projection failed");
@@ -593,7 +770,14 @@ template <class S> class Integrator {
       }
       w_.needDampingResponse = true;  // and after an event, refresh() takes it again
       if (!evaluate(m_, s_.y, s_.active, s_.lambda, w_, w_.ydot) || !allFinite(w_.ydot)) return failNonFinite(st);
+      if (slipReversedUnseen()) {  // (down to the retry floor)
+        if (!settleUnseenSlips(st) || !refresh()) return failNonFinite(st);
+        k[6] = w_.ydot;
+        hNext = std::max(h, 1e-8);
+        return true;
+      }
       eventFunctions(m_, s_, s_.lambda, w_, w_.g1);
+      freeStopRates(m_, s_, w_, w_.gRate1);
       k[6] = w_.ydot;
       dense_.kind = DenseOutput<S>::Hermite;
       dense_.t0 = s_.t - S(h);
@@ -606,6 +790,7 @@ template <class S> class Integrator {
       if (!endOnEvent(h, hNext, st, ended)) return false;
       if (ended) return true;
       w_.g0 = w_.g1;
+      w_.gRate0 = w_.gRate1;
       forceOutputs();  // (stabilised above)
       return true;
     }
@@ -656,16 +841,30 @@ template <class S> class Integrator {
     normalizeQuaternions(m_, s_.y);
     if (!refresh()) return failNonFinite(st);
     w_.g1 = w_.g0;
-    // Events at the step's end: a stop that arrived or would pull; then stabilise.
+    // Events at the step's end: a stop that arrived or would pull, a friction lock past its bound or a
+    // slip that reversed; then stabilise.
     bool any = false;
     for (int i = 0; i < m_.nRows; ++i) {
+      if (m_.rowInfo[i].friction()) {
+        if (value(w_.g1[i]) < 0) any = true;
+        continue;
+      }
       if (!m_.rowInfo[i].unilateral) continue;
       if (s_.active[i] ? value(s_.lambda[i]) < 0 : value(w_.rows[i].C) <= 0) any = true;
     }
     if (any) {
       ++st.events;
-      for (int i = 0; i < m_.nRows; ++i)
+      for (int i = 0; i < m_.nRows; ++i) {
+        if (m_.rowInfo[i].friction() && value(w_.g1[i]) < 0) {
+          if (s_.active[i]) {
+            s_.active[i] = 0;
+            setSlip(s_, w_, i, value(s_.lambda[i]) > 0 ? -1 : 1);
+          } else {
+            setSlip(s_, w_, i, 0);
+          }
+        }
         if (m_.rowInfo[i].unilateral && s_.active[i] && value(s_.lambda[i]) < 0) s_.active[i] = 0;
+      }
       if (resolveContacts(m_, s_, w_) < 0) {
         fail(st, "contact solve failed");
         return false;

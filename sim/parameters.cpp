@@ -1,6 +1,8 @@
 // Design parameters resolved to typed places (parameters.hpp).
 #include "sim/parameters.hpp"
 
+#include <map>
+
 #include "sim/scene_check.hpp"
 
 namespace lg {
@@ -48,6 +50,25 @@ Parameter resolveParameter(const Scene& scene, const std::string& path, const st
       return p;
     }
   return fail("no body, stop, force element or case named '" + element + "' in the scene");
+}
+
+std::string unitOfKey(const std::string& key) {
+  static const std::map<std::string, std::string> units{
+      // bodies, stops, cases
+      {"mass", "kg"}, {"max_distance", "m"}, {"min_distance", "m"}, {"sink_speed", "m/s"}, {"lift_ratio", "-"},
+      {"duration", "s"}, {"ratio", "-"},
+      // shock absorber
+      {"L0", "m"}, {"D", "m"}, {"D2", "m"}, {"p01", "Pa"}, {"Omega0", "m^3"}, {"n", "-"}, {"rho", "kg/m^3"},
+      {"f1", "m^2"}, {"f1_table", "m^2"}, {"f2", "m^2"}, {"xi1", "-"}, {"xi2", "-"}, {"mu", "-"},
+      {"friction_velocity", "m/s"}, {"p_atm", "Pa"},
+      // tyre
+      {"radius", "m"}, {"K", "N/m"}, {"delta_max", "m"}, {"alpha", "-"}, {"ground_height", "m"},
+      // spring-damper
+      {"k", "N/m"}, {"c", "N s/m"},
+  };
+  const auto open = key.find('[');  // a table's sample: the table's unit
+  const auto it = units.find(open == std::string::npos ? key : key.substr(0, open));
+  return it == units.end() ? "?" : it->second;
 }
 
 double parameterValue(const Scene& scene, const Parameter& p) {

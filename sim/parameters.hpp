@@ -24,6 +24,10 @@ struct Parameter {
 // (searched in that order), the key one of its numeric scalars. Throws InputError(where, 0, path, rule).
 Parameter resolveParameter(const Scene& scene, const std::string& path, const std::string& where = "");
 
+// The SI unit of a parameter by its scene key ("f1" and "f1_table[3]" -> "m^2", "mass" -> "kg", "-" for a
+// ratio; "?" for a key the catalogue does not know): the one table of units for every output.
+std::string unitOfKey(const std::string& key);
+
 // The parameter's value in a scene.
 double parameterValue(const Scene& scene, const Parameter& p);
 

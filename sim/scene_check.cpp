@@ -59,7 +59,7 @@ class Checker {
                                              const std::string& rule) {
     return SceneProblem{array, index, key, rule};
   }
-  std::optional<SceneProblem> positive(int f, const char* key, double v) const {
+  std::optional<SceneProblem> positive(int f, const std::string& key, double v) const {
     if (!(v > 0)) return problem("force", f, key, "value " + num(v) + " must be > 0");
     return std::nullopt;
   }
@@ -85,6 +85,8 @@ class Checker {
       if (auto p = positive(f, key, v)) return p;
     if (!s.f1Table)
       if (auto p = positive(f, "f1", s.f1)) return p;
+    for (size_t k = 0; k < s.f1Values.size(); ++k)  // a design may move the metering pin's samples
+      if (auto p = positive(f, "f1_table[" + std::to_string(k) + "]", s.f1Values[k])) return p;
     if (!(s.D2 >= s.D)) return problem("force", f, "D2", "bore " + num(s.D2) + " must be >= rod diameter D = " + num(s.D));
     if (!(s.n > 1)) return problem("force", f, "n", "polytropic exponent " + num(s.n) + " must be > 1");
     if (!(s.mu >= 0)) return problem("force", f, "mu", "value " + num(s.mu) + " must be >= 0");

@@ -23,7 +23,9 @@ struct RowInfo {
   int bi = kGround;
   int bj = kGround;
   bool unilateral = false;
-  int constraint = -1;  // index of the constraint that owns the row
+  int constraint = -1;  // index of the constraint that owns the row (-1 for a force element's row)
+  int force = -1;       // index of the force element that owns the row: a Coulomb friction lock (stick)
+  bool friction() const { return force >= 0; }
 };
 
 // Writes one row of the type "point p_i of body i lies in the plane of body j through p_j with the

@@ -22,16 +22,43 @@ template <class S> struct Body {
   template <class T> Body<T> cast() const { return {name, T(mass), castVec<T>(inertia)}; }
 };
 
+// How a body may move when its joint to the ground is eliminated (Model::finalize): freely (6 DOF), only
+// along a fixed world axis (a prismatic joint to the ground), or not at all (a fixed joint to the ground).
+enum Mobility : signed char { kFree = 0, kTranslation = 1, kImmobile = 2 };
+
 // What the stages after "kinematics" read about one body at one instant.
 template <class S> struct BodyKin {
   Vec3<S> r;        // [m] centre of mass, world
   Mat3<S> R;        // body-to-world rotation
   Vec3<S> v;        // [m/s] centre-of-mass velocity, world
   Vec3<S> w;        // [rad/s] angular velocity, world
-  Mat3<S> Iw;       // [kg m^2] world inertia R I0 R^T
-  Mat3<S> IwInv;    // [1/(kg m^2)]
+  Vec3<S> I0;       // [kg m^2] principal inertia (body frame); the world inertia is R I0 R^T
+  Mat3<S> IwInv;    // [1/(kg m^2)] (R I0 R^T)^-1
   S mass;           // [kg]
   S invMass;        // [1/kg]
+  signed char mobility = kFree;  // see Mobility; set once by the workspace from the model
+  Vec3<S> axis = Vec3<S>::Zero();  // [-] the world axis of a kTranslation body
+
+  // The body's (restricted) inverse mass applied to a wrench (f, tau): for a free body
+  // (f / m, I^-1 tau); for one guided along the unit axis a, the inverse mass restricted to its
+  // motions S = (a, 0), S (S^T M S)^-1 S^T (f, tau) = (a (a.f) / m, 0) -- the exact elimination of the
+  // guide's five rows; for an immobile body 0.
+  Vec6<S> invMassTimes(const Vec3<S>& f, const Vec3<S>& tau) const {
+    Vec6<S> out;
+    if (mobility == kFree) {
+      out.template head<3>() = invMass * f;
+      out.template tail<3>() = IwInv * tau;
+    } else if (mobility == kTranslation) {
+      out.template head<3>() = axis * (axis.dot(f) * invMass);
+      out.template tail<3>().setZero();
+    } else {
+      out.setZero();
+    }
+    return out;
+  }
+
+  // Angular momentum about the centre of mass, I_w w = R (I0 (R^T w)) (world).
+  Vec3<S> angularMomentum() const { return R * I0.cwiseProduct(R.transpose() * w); }
 
   // World position of a body-fixed point rho (body coordinates), its lever arm and velocity.
   Vec3<S> point(const Vec3<S>& rho) const { return r + R * rho; }
@@ -43,7 +70,7 @@ template <class S> struct BodyKin {
     k.R.setIdentity();
     k.v.setZero();
     k.w.setZero();
-    k.Iw.setZero();
+    k.I0.setZero();
     k.IwInv.setZero();
     k.mass = S(0);
     k.invMass = S(0);
@@ -51,11 +78,16 @@ template <class S> struct BodyKin {
   }
 };
 
-// Kinematics of all bodies, with index -1 (kGround) mapping to the ground.
+// Kinematics of all bodies, with index -1 (kGround) mapping to the ground, and the modes of the
+// friction-lock rows (sim/forces/friction_lock.hpp) that the force elements with exact friction read.
 template <class S> struct Kins {
   const BodyKin<S>* k;  // n bodies followed by the ground
   int n;
+  const signed char* slip = nullptr;  // per row: the slip direction of a friction lock (+1, -1, 0: none)
+  const S* lambda = nullptr;          // per row: the multiplier of the last solve (0 where not enforced)
   const BodyKin<S>& operator[](int b) const { return b < 0 ? k[n] : k[b]; }
+  int slipOf(int row) const { return (slip && row >= 0) ? slip[row] : 0; }
+  S lambdaOf(int row) const { return (lambda && row >= 0) ? lambda[row] : S(0); }
 };
 
 // Resultant force and moment on each body (world), accumulated by the force elements.

@@ -33,6 +33,9 @@ struct Settings {
   double contactTolerance = 1e-7;     // [m] a stop within this is touching
   double eventTolerance = 1e-12;      // [s] width of the bracket of a located event
   bool profile = false;               // time each stage of the step
+  double accuracy = 0;                // [-] the relative accuracy these settings were chosen for (applyAccuracy), 0: none
+  bool eliminateGroundJoints = true;  // a body's prismatic or fixed joint to the ground restricts its
+                                      // mobility instead of adding rows (exact; see Model::finalize)
 };
 
 template <class S> struct Model {
@@ -42,8 +45,11 @@ template <class S> struct Model {
   Settings settings;
 
   // Derived once by finalize(): the row table and the sizes of the state.
-  std::vector<RowInfo> rowInfo;   // one per scalar constraint row
+  std::vector<RowInfo> rowInfo;   // one per scalar constraint row, then the force elements' friction locks
   std::vector<int> rowOffset;     // first row of each constraint
+  std::vector<int> lockRow;       // per force element: its friction-lock row, or -1
+  std::vector<signed char> mobility;    // per body: kFree, or kTranslation / kImmobile by an eliminated ground joint
+  std::vector<Vec3<S>> mobilityAxis;    // per body: the world axis of a kTranslation body
   std::vector<int> dissipationOffset, eventOffset, outputOffset, dampingOffset;  // per force element
   int nRows = 0, nDissipation = 0, nForceEvents = 0, nOutputs = 0, nDamping = 0;
   int nErrorChannels = 0;         // the first dissipation channels, error-controlled like x and V
@@ -59,10 +65,50 @@ template <class S> struct Model {
   void finalize() {
     rowInfo.clear();
     rowOffset.clear();
+    // A prismatic joint between a body and the ground lets the body translate along a fixed world axis
+    // only, a fixed joint not move at all: the body's inverse mass restricted to that subspace
+    // (BodyKin::invMassTimes) is the exact Schur complement of the joint's rows, which are then not
+    // built (rowOffset -1). One such joint per body; a second one keeps its rows.
+    mobility.assign(bodies.size(), kFree);
+    mobilityAxis.assign(bodies.size(), Vec3<S>::Zero());
+    std::vector<char> eliminated(constraints.size(), 0);
+    for (int c = 0; settings.eliminateGroundJoints && c < static_cast<int>(constraints.size()); ++c) {
+      if (const auto* p = std::get_if<Prismatic<S>>(&constraints[c].type)) {
+        const int b = p->bj == kGround ? p->bi : (p->bi == kGround ? p->bj : kGround);
+        if (b == kGround || mobility[b] != kFree) continue;
+        Vec3<S> a = p->bj == kGround ? Vec3<S>(p->n_a.cross(p->n_b)) : Vec3<S>(p->rho_i2 - p->rho_i1);
+        mobility[b] = kTranslation;
+        mobilityAxis[b] = a / a.norm();
+        eliminated[c] = 1;
+      } else if (const auto* f = std::get_if<Fixed<S>>(&constraints[c].type)) {
+        const int b = f->bj == kGround ? f->bi : (f->bi == kGround ? f->bj : kGround);
+        if (b == kGround || mobility[b] != kFree) continue;
+        mobility[b] = kImmobile;
+        eliminated[c] = 1;
+      }
+    }
     for (int c = 0; c < static_cast<int>(constraints.size()); ++c) {
+      if (eliminated[c]) {
+        rowOffset.push_back(-1);
+        continue;
+      }
       rowOffset.push_back(static_cast<int>(rowInfo.size()));
       for (int k = 0; k < constraints[c].rows(); ++k)
         rowInfo.push_back({constraints[c].bodyI(), constraints[c].bodyJ(), constraints[c].unilateral(), c});
+    }
+    // A force element with exact Coulomb friction (stick/slip) owns one row: the lock that holds its
+    // rate at zero while it sticks (enforced only then; see sim/forces/friction_lock.hpp).
+    lockRow.assign(forces.size(), -1);
+    for (int f = 0; f < static_cast<int>(forces.size()); ++f) {
+      const FrictionLockInfo li = forces[f].frictionLock();
+      forces[f].setLockRow(li.present ? static_cast<int>(rowInfo.size()) : -1);
+      if (!li.present) continue;
+      lockRow[f] = static_cast<int>(rowInfo.size());
+      RowInfo ri;
+      ri.bi = li.bi;
+      ri.bj = li.bj;
+      ri.force = f;
+      rowInfo.push_back(ri);
     }
     nRows = static_cast<int>(rowInfo.size());
     dissipationOffset.clear();

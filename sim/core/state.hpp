@@ -15,13 +15,15 @@ template <class S> struct State {
   S t = S(0);                // [s]
   VecX<S> y;                 // see above; r [m], q [-], v [m/s], omega [rad/s], z [J]
   VecX<S> lambda;            // multipliers of every row (last solve; warm start of Gauss-Seidel)
-  std::vector<char> active;  // per row: 1 if it is enforced (bilateral rows always; stops in contact)
+  std::vector<char> active;  // per row: 1 if it is enforced (bilateral rows always; stops in contact;
+                             // friction locks while stuck)
+  std::vector<signed char> slip;  // per friction-lock row: slip direction +1 / -1, 0 if not slipping
   S impactLoss = S(0);       // [J] kinetic energy removed by plastic impacts
 
   explicit State(const Model<S>& m = Model<S>())
-      : y(VecX<S>::Zero(m.ny())), lambda(VecX<S>::Zero(m.nRows)), active(m.nRows, 1) {
+      : y(VecX<S>::Zero(m.ny())), lambda(VecX<S>::Zero(m.nRows)), active(m.nRows, 1), slip(m.nRows, 0) {
     for (int b = 0; b < m.nBodies(); ++b) y[7 * b + 3] = S(1);
-    for (int k = 0; k < m.nRows; ++k) active[k] = m.rowInfo[k].unilateral ? 0 : 1;
+    for (int k = 0; k < m.nRows; ++k) active[k] = (m.rowInfo[k].unilateral || m.rowInfo[k].friction()) ? 0 : 1;
   }
 
   // Accessors for body b of a model with N bodies.
@@ -43,10 +45,25 @@ struct StageTimer {
   std::array<long, kStageCount> calls{};
 };
 
-// One term of J M^-1 J^T: A(row, col) += J_k(side) . W_l(side), row >= col being positions in the
-// factor's elimination order (see assembleA). The sides are those of the term's group in pairs.
+// One term of J M^-1 J^T: A[target] += J_k(side) . W_l(side), target being the flat index of the
+// entry in the solver's storage (see assembleA). The sides are those of the term's group in pairs.
 struct PairTerm {
-  int row, col, k, l;
+  int target, k, l;
+};
+
+// One update of the supernodal factor: L[dst] -= L[a .. a + width) . L[b .. b + width) (flat indices).
+struct FactorUpdate {
+  int dst, a, b;
+};
+
+// The structure of the direct factor for one row list (analyseA, assembleA): kept for the few lists a
+// run switches between (contact and friction modes), so that a switch back costs a copy, not an analysis.
+struct FactorStructure {
+  std::vector<int> list, order, pos, below, belowStart, envFirst, envStart, superStart, rowAt, superRows, superRowAt,
+      superRowStart, updateStart;
+  std::vector<FactorUpdate> updates;
+  std::vector<PairTerm> pairs;
+  std::array<int, 5> pairGroup{};
 };
 
 // What the last multiplier solve reports.
@@ -65,6 +82,9 @@ template <class S> struct Workspace {
   std::vector<int> list;             // the rows in the current solve
   MatX<S> A;                         // J M^-1 J^T over 'list'
   VecX<S> b, lam, work;              // right-hand side, multipliers, scratch
+  VecX<S> rowLambda;                 // per row: the multipliers of the last solve (0 where not enforced)
+  std::vector<signed char> slip;     // per row: the friction modes of the run's state (State::slip), read by
+                                     // the force elements through Kins (set by setFrictionModes)
   VecX<S> dissipation;               // dissipation rate per channel [W]
   VecX<S> forceEvents;               // force-element event functions
   VecX<S> outputs;                   // named outputs of the force elements
@@ -72,6 +92,7 @@ template <class S> struct Workspace {
   std::vector<VecX<S>> stages;       // integrator stages k1..k7
   VecX<S> y0, y1, yerr, ytmp;        // integrator scratch
   VecX<S> g0, g1, g2, gtmp;          // event functions at step start / end / trials
+  VecX<S> gRate0, gRate1;            // a free stop's dC/dt = J V at step start / end (interior dips)
   VecX<S> fTmp, lamTmp;              // scratch for event location
   std::vector<char> candidate;       // per row: touching stop considered by a contact solve
   std::vector<int> pairList;         // the row list the pair terms were built for
@@ -85,6 +106,15 @@ template <class S> struct Workspace {
   std::array<int, 5> pairGroup{};    // of the two rows: terms [pairGroup[g], pairGroup[g+1]) have sides (g/2, g%2)
   std::vector<int> order, pos;       // elimination order of the factor (order[t]: list index; pos: inverse)
   std::vector<int> below, belowStart;  // symbolic factor: the positions t' > t with L(t', t) != 0
+  std::vector<int> envFirst, envStart;  // envelope of the direct factor: row t holds L(t, envFirst[t]..t) from L[envStart[t]]
+  VecX<S> L, invDiag;                // the packed envelope (A, then its factor), 1 / L(t, t)
+  std::vector<int> superStart;       // supernodes: runs of columns [superStart[K], superStart[K+1]) sharing their structure
+  std::vector<int> rowAt;            // flat index of L(i, first column of i's supernode)
+  std::vector<int> superRows, superRowAt, superRowStart;  // the rows below each supernode, flat index of L(r, c0)
+  std::vector<FactorUpdate> updates;  // the updates of each supernode, [updateStart[K], updateStart[K+1])
+  std::vector<int> updateStart;
+  std::array<FactorStructure, 4> structureCache;  // recently analysed row lists (filled at mode switches)
+  int structureNext = 0;                           // the cache entry to overwrite next
   VecX<S> permTmp;                   // a right-hand side in elimination order
   SolveReport report;
   StageTimer timer;
@@ -93,6 +123,10 @@ template <class S> struct Workspace {
   explicit Workspace(const Model<S>& m) {
     const int N = m.nBodies(), R = m.nRows;
     kin.assign(N + 1, BodyKin<S>::ground());
+    for (int b = 0; b < N; ++b) {
+      kin[b].mobility = m.mobility[b];
+      kin[b].axis = m.mobilityAxis[b];
+    }
     wrench.assign(N, Vec6<S>::Zero());
     aFree.assign(N, Vec6<S>::Zero());
     rows.assign(R, Row<S>{S(0), S(0), Vec6<S>::Zero(), Vec6<S>::Zero()});
@@ -101,12 +135,15 @@ template <class S> struct Workspace {
     list.reserve(R);
     A = MatX<S>::Zero(R, R);
     b = lam = work = VecX<S>::Zero(R);
+    rowLambda = VecX<S>::Zero(R);
+    slip.assign(R, 0);
     dissipation = VecX<S>::Zero(m.nDissipation);
     forceEvents = VecX<S>::Zero(m.nForceEvents);
     outputs = VecX<S>::Zero(m.nOutputs);
     ydot = y0 = y1 = yerr = ytmp = VecX<S>::Zero(m.ny());
     stages.assign(7, VecX<S>::Zero(m.ny()));
     g0 = g1 = g2 = gtmp = VecX<S>::Zero(R + m.nForceEvents);
+    gRate0 = gRate1 = VecX<S>::Zero(R);
     fTmp = VecX<S>::Zero(m.ny());
     lamTmp = VecX<S>::Zero(R);
     candidate.assign(R, 0);
@@ -124,8 +161,21 @@ template <class S> struct Workspace {
     below.reserve(static_cast<size_t>(R * R));
     belowStart.reserve(R + 1);
     permTmp = VecX<S>::Zero(R);
+    envFirst.reserve(R);
+    envStart.reserve(R + 1);
+    envStart.assign(1, 0);  // the structure of an empty row list (analyseA rebuilds it when the list changes)
+    L = VecX<S>::Zero(R * (R + 1) / 2);
+    invDiag = VecX<S>::Zero(R);
+    superStart.reserve(R + 1);
+    superStart.assign(1, 0);
+    rowAt.reserve(R);
+    superRows.reserve(static_cast<size_t>(R * R));
+    superRowAt.reserve(static_cast<size_t>(R * R));
+    superRowStart.reserve(R + 1);
+    updates.reserve(static_cast<size_t>(R * (R + 1) / 2 * R));
+    updateStart.reserve(R + 1);
   }
-  Kins<S> kins() const { return {kin.data(), static_cast<int>(kin.size()) - 1}; }
+  Kins<S> kins() const { return {kin.data(), static_cast<int>(kin.size()) - 1, slip.data(), rowLambda.data()}; }
 };
 
 // Times a stage when the model asks for profiling; costs one branch otherwise.

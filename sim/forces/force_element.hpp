@@ -75,6 +75,18 @@ template <class S> struct ForceElement {
   std::vector<std::string> outputNames() const {
     return std::visit([](const auto& f) { return f.outputNames(); }, type);
   }
+  // Exact Coulomb friction (sim/forces/friction_lock.hpp): elements that have it declare a lock row.
+  FrictionLockInfo frictionLock() const {
+    return std::visit(
+        [](const auto& f) -> FrictionLockInfo {
+          if constexpr (requires { f.frictionLock(); }) return f.frictionLock();
+          else return {};
+        },
+        type);
+  }
+  void setLockRow(int row) {
+    std::visit([&](auto& f) { if constexpr (requires { f.lockRow; }) f.lockRow = row; }, type);
+  }
   template <class T> ForceElement<T> cast() const {
     return {name, std::visit([](const auto& f) -> ForceType<T> { return f.template cast<T>(); }, type), isLift,
             T(liftRatio)};

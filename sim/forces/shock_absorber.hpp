@@ -5,11 +5,17 @@
 //   sdot  = -e . (u_B - u_C),  e = (B - C)/|B - C|                          [m/s]
 //   p_1   = p_01 / (1 - s F / Omega_0)^n                                    [Pa]
 //   P_a   = (p_1 - p_atm) F                          gas (p_atm = 0 as in the article)
-//         + mu (p_1 - p_atm) F sgn_eps(sdot)         Coulomb friction, proportional to the gas force
-//                                                     (the seals carry p_1 - p_atm), sgn regularised:
-//                                                     sgn_eps(v) = v / sqrt(v^2 + eps^2)
-//         + xi_1 rho F^3   sdot|sdot| / (2 f_1^2)    main orifice (f_1 constant or f_1(s) table)
+//         + P_f                                      Coulomb friction, bounded by the gas force:
+//                                                     F_max = mu (p_1 - p_atm) F (the seals carry p_1 - p_atm)
+//         + xi_1 rho F^3   sdot|sdot| / (2 f_1^2)    main orifice (f_1 constant or f_1(s) table: C1
+//                                                     Catmull-Rom through the samples f1_table[k])
 //         + xi_2 rho F_2^3 sdot|sdot| / (2 f_2^2)    rebound orifice (only if the scene declares f_2)
+// Friction, two laws (the scene's choice):
+//   coulomb      exact stick/slip (friction_lock.hpp): P_f = sigma F_max while slipping in the direction
+//                sigma; while stuck, the lock row's reaction (|P_f| <= F_max). Over a slip segment the
+//                orifice terms use the segment's sign too, sigma sdot^2, so that the force is smooth
+//                until the rate stops (an event).
+//   regularised  P_f = F_max sgn_eps(sdot), sgn_eps(v) = v / sqrt(v^2 + eps^2), eps = frictionVelocity.
 //   F = pi D^2/4,  F_2 = pi (D_2^2 - D^2)/4
 // P_a > 0 pushes B away from C: +P_a e on the rod at B, -P_a e on the cylinder at C.
 //
@@ -22,6 +28,7 @@
 #include <vector>
 
 #include "sim/core/body.hpp"
+#include "sim/forces/friction_lock.hpp"
 #include "sim/forces/table1d.hpp"
 
 namespace lg {
@@ -46,21 +53,25 @@ template <class S> struct ShockAbsorber {
   S xi1, xi2;        // [-] loss coefficients
   S mu;              // [-] friction coefficient
   S pAtm;            // [Pa] atmospheric pressure (0: off)
-  double frictionVelocity = 1e-3;      // [m/s] eps of sgn_eps
-  std::shared_ptr<const Table1D> f1Table;  // [m -> m^2] metering pin f_1(s), or null
+  double frictionVelocity = 1e-3;      // [m/s] eps of sgn_eps (regularised friction)
+  std::shared_ptr<const Table1D> f1Table;  // [m -> m^2] metering pin f_1(s), or null: its stroke grid
+  std::vector<S> f1Values;                 // [m^2] the table's areas (design parameters "f1_table[k]")
   bool reboundOrifice = false;             // the scene declares f2: the rebound-orifice term exists
+  bool coulomb = false;                    // exact stick/slip friction (else regularised)
+  int lockRow = -1;                        // its friction-lock row (set by Model::finalize)
 
   bool declaresReboundOrifice() const { return reboundOrifice; }
 
   struct Eval {
     Vec3<S> a_i, a_j, e;
     S s, sdot, p1, gas, friction, orifice1, orifice2;
+    int sigma = 0;  // the slip direction of a Coulomb segment (0: stuck, held, or regularised)
     S force() const { return gas + friction + orifice1 + orifice2; }
   };
 
   S area() const { return S(M_PI) * D * D / S(4); }
   S annularArea() const { return S(M_PI) * (D2 * D2 - D * D) / S(4); }
-  S mainOrifice(const S& s) const { return f1Table ? (*f1Table)(s) : f1; }
+  S mainOrifice(const S& s) const { return f1Table ? interpolate(*f1Table, f1Values, s) : f1; }
 
   Eval eval(const Kins<S>& K) const {
     Eval r;
@@ -74,16 +85,30 @@ template <class S> struct ShockAbsorber {
     const S F = area();
     r.p1 = p01 / pow(S(1) - r.s * F / Omega0, n);
     r.gas = (r.p1 - pAtm) * F;
-    r.friction = mu * (r.p1 - pAtm) * F * smoothSign(r.sdot, frictionVelocity);
+    r.sigma = coulomb ? K.slipOf(lockRow) : 0;
+    if (coulomb) r.friction = S(r.sigma) * mu * r.gas;  // 0 when stuck (the lock reacts) or held
+    else r.friction = mu * r.gas * smoothSign(r.sdot, frictionVelocity);
+    const S sq = r.sigma != 0 ? S(r.sigma) * r.sdot * r.sdot : signedSquare(r.sdot);
     const S fa = mainOrifice(r.s);
-    r.orifice1 = xi1 * rho * F * F * F * signedSquare(r.sdot) / (S(2) * fa * fa);
+    r.orifice1 = xi1 * rho * F * F * F * sq / (S(2) * fa * fa);
     r.orifice2 = S(0);
     if (reboundOrifice) {  // declared by the scene, not a value-dependent branch
       const S F2 = annularArea();
-      r.orifice2 = xi2 * rho * F2 * F2 * F2 * signedSquare(r.sdot) / (S(2) * f2 * f2);
+      r.orifice2 = xi2 * rho * F2 * F2 * F2 * sq / (S(2) * f2 * f2);
     }
     return r;
   }
+  // Exact friction: the lock row, the friction bound F_max, and the lock's reaction as a force P_f.
+  FrictionLockInfo frictionLock() const { return {coulomb, bi, bj}; }
+  void writeLock(const Kins<S>& K, Row<S>& row) const {
+    writeAxialLock(K[bi], Vec3<S>(K[bi].R * rho_i), K[bj], Vec3<S>(K[bj].R * rho_j), row);
+  }
+  S frictionBound(const Kins<S>& K) const {
+    const Vec3<S> d = (K[bi].r + K[bi].R * rho_i) - (K[bj].r + K[bj].R * rho_j);
+    const S s = L0 - d.norm();
+    return mu * (p01 / pow(S(1) - s * area() / Omega0, n) - pAtm) * area();
+  }
+  S lockForce(const Kins<S>& K) const { return coulomb ? -K.lambdaOf(lockRow) : S(0); }
   void apply(const Kins<S>& K, const Wrenches<S>& W, S* dissipation) const {
     const Eval r = eval(K);
     const S P = r.force();
@@ -98,15 +123,16 @@ template <class S> struct ShockAbsorber {
   }
   void events(const Kins<S>&, S*) const {}
   // sdot = G V along the strut axis (DampingTerm::setAxial); c = dP_a/dsdot =
-  // mu (p_1 - p_atm) F eps^2 / (sdot^2 + eps^2)^(3/2) + 2 (k_1 + k_2) |sdot|.
+  // mu (p_1 - p_atm) F eps^2 / (sdot^2 + eps^2)^(3/2) (regularised friction only) + 2 (k_1 + k_2) |sdot|
+  // (on a Coulomb slip segment 2 (k_1 + k_2) sigma sdot, the derivative of its continued law).
   void damping(const Kins<S>& K, DampingTerm<S>* d) const {
     const Eval r = eval(K);
     const S F = area();
     const S v2 = r.sdot * r.sdot, e2 = S(frictionVelocity * frictionVelocity);
     const S q = v2 + e2;
-    S c = mu * (r.p1 - pAtm) * F * e2 / (q * sqrt(q));
+    S c = coulomb ? S(0) : mu * (r.p1 - pAtm) * F * e2 / (q * sqrt(q));
     const S fa = mainOrifice(r.s);
-    const S speed = magnitude(r.sdot);
+    const S speed = r.sigma != 0 ? S(r.sigma) * r.sdot : magnitude(r.sdot);
     c += xi1 * rho * F * F * F * speed / (fa * fa);
     if (reboundOrifice) {
       const S F2 = annularArea();
@@ -121,12 +147,13 @@ template <class S> struct ShockAbsorber {
   }
   void outputs(const Kins<S>& K, S* out) const {
     const Eval r = eval(K);
+    const S lock = lockForce(K);  // a stuck Coulomb friction (the lock's reaction from the last solve)
     out[0] = r.s;
     out[1] = r.sdot;
     out[2] = r.p1;
-    out[3] = r.force();
+    out[3] = r.force() + lock;
     out[4] = r.gas;
-    out[5] = r.friction;
+    out[5] = r.friction + lock;
     out[6] = r.orifice1;
     if (reboundOrifice) out[7] = r.orifice2;
   }
@@ -141,6 +168,12 @@ template <class S> struct ShockAbsorber {
     if (key == "n") return &n;
     if (key == "rho") return &rho;
     if (key == "f1") return f1Table ? nullptr : &f1;
+    if (f1Table && key.rfind("f1_table[", 0) == 0 && key.back() == ']') {  // f1_table[k]: sample k, from 0
+      const std::string digits = key.substr(9, key.size() - 10);
+      if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos) return nullptr;
+      const size_t k = std::stoul(digits);
+      return k < f1Values.size() ? &f1Values[k] : nullptr;
+    }
     if (key == "f2") return reboundOrifice ? &f2 : nullptr;
     if (key == "xi1") return &xi1;
     if (key == "xi2") return &xi2;
@@ -150,7 +183,8 @@ template <class S> struct ShockAbsorber {
   }
   template <class T> ShockAbsorber<T> cast() const {
     return {bi, bj, castVec<T>(rho_i), castVec<T>(rho_j), T(L0), T(D), T(D2), T(p01), T(Omega0), T(n), T(rho),
-            T(f1), T(f2), T(xi1), T(xi2), T(mu), T(pAtm), frictionVelocity, f1Table, reboundOrifice};
+            T(f1), T(f2), T(xi1), T(xi2), T(mu), T(pAtm), frictionVelocity, f1Table,
+            std::vector<T>(f1Values.begin(), f1Values.end()), reboundOrifice, coulomb, lockRow};
   }
 };
 

@@ -43,6 +43,9 @@ ParameterOverride parseOverride(const std::string& text) {
 Scene applyOverrides(const Scene& scene, const std::vector<ParameterOverride>& sets) {
   if (sets.empty()) return scene;
   toml::table doc = scene.doc;
+  std::vector<std::string> paths;
+  for (const auto& o : sets) paths.push_back(o.path);
+  inlineTables(doc, scene, paths);
   for (const auto& o : sets) {
     try {
       setParameter(doc, o.path, o.value, kWhere);

@@ -211,10 +211,16 @@ bool drawCaseFigure(const CaseFigure& f, const std::string& dir, const std::stri
   gp << "unset multiplot\n";
   writeFileAtomic((d / (stem + ".gp")).string(), gp.str());
   if (!run) return true;
+  return runGnuplot(d.string(), stem, why);
+}
+
+bool runGnuplot(const std::string& dir, const std::string& stem, std::string* why) {
+  namespace fs = std::filesystem;
   if (!haveGnuplot()) {
     if (why) *why = "gnuplot is not installed (scripts/setup.sh installs gnuplot-nox)";
     return false;
   }
+  const fs::path d(dir);
   const std::string cmd = "cd " + shellQuoted(d.string()) + " && gnuplot " + shellQuoted(stem + ".gp") + " > /dev/null 2> " +
                           shellQuoted(stem + ".gnuplot.log");
   if (std::system(cmd.c_str()) != 0) {
@@ -225,5 +231,7 @@ bool drawCaseFigure(const CaseFigure& f, const std::string& dir, const std::stri
   fs::remove(d / (stem + ".gnuplot.log"), ec);
   return true;
 }
+
+std::string gnuplotQuoted(const std::string& s) { return quoted(s); }
 
 }  // namespace lg

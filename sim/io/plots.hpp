@@ -45,4 +45,11 @@ PlotLimits sceneLimits(const Scene& scene);
 // STEM must be a safe file stem (safeFileStem). Throws std::runtime_error if a file cannot be written.
 bool drawCaseFigure(const CaseFigure& f, const std::string& dir, const std::string& stem, bool run, std::string* why);
 
+// Runs gnuplot on DIR/STEM.gp in DIR (STEM a safe file stem); false with the reason when gnuplot is
+// missing or fails (its messages in DIR/STEM.gnuplot.log).
+bool runGnuplot(const std::string& dir, const std::string& stem, std::string* why);
+
+// A gnuplot single-quoted string (quotes doubled), for titles and file names in scripts.
+std::string gnuplotQuoted(const std::string& s);
+
 }  // namespace lg

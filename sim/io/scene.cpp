@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 
+#include "sim/accuracy.hpp"
 #include "sim/certification.hpp"
 #include "sim/engine.hpp"
 #include "sim/io/toml_reader.hpp"
@@ -69,19 +70,45 @@ std::string scenePath(const TomlReader& r, const std::string& key, const std::st
   return tp.string();
 }
 
+// A table's samples checked: at least 4, stroke increasing and uniformly spaced, every area > 0.
+std::shared_ptr<const Table1D> checkedTable(std::vector<double> x, std::vector<double> y, const std::string& source,
+                                            const TomlReader& r, const std::string& key, int firstRow) {
+  if (x.size() < 4) r.fail(key, "table '" + source + "' needs at least 4 rows of (stroke, area)");
+  const double dx = (x.back() - x.front()) / double(x.size() - 1);
+  if (!(dx > 0)) r.fail(key, "table '" + source + "': stroke must increase");
+  for (size_t i = 0; i < x.size(); ++i) {
+    if (std::abs(x[i] - (x.front() + dx * double(i))) > 1e-9 * std::max(1.0, std::abs(x.back())))
+      r.fail(key, "table '" + source + "': stroke must be uniformly spaced (row " + std::to_string(i + firstRow) + ")");
+    if (!(y[i] > 0))
+      r.fail(key, "table '" + source + "': area " + fmt(y[i]) + " at row " + std::to_string(i + firstRow) + " must be > 0");
+  }
+  return std::make_shared<Table1D>(std::move(x), std::move(y), source);
+}
+
 // Reads a two-column CSV table (header "stroke,area" or any two names) through fast-cpp-csv-parser.
 std::shared_ptr<const Table1D> readTable(const std::string& path, const TomlReader& r, const std::string& key) {
   std::vector<double> x, y;
   readColumns(path, r, key, "stroke", "area", x, y);
-  if (x.size() < 4) r.fail(key, "table '" + path + "' needs at least 4 rows of (stroke, area)");
-  const double dx = (x.back() - x.front()) / double(x.size() - 1);
-  if (!(dx > 0)) r.fail(key, "table '" + path + "': stroke must increase");
-  for (size_t i = 0; i < x.size(); ++i) {
-    if (std::abs(x[i] - (x.front() + dx * double(i))) > 1e-9 * std::max(1.0, std::abs(x.back())))
-      r.fail(key, "table '" + path + "': stroke must be uniformly spaced (row " + std::to_string(i + 2) + ")");
-    if (!(y[i] > 0)) r.fail(key, "table '" + path + "': area " + fmt(y[i]) + " at row " + std::to_string(i + 2) + " must be > 0");
+  return checkedTable(std::move(x), std::move(y), path, r, key, 2);
+}
+
+// An inline table: { stroke = [...] [m], area = [...] [m^2] } (what best.toml and calibrated.toml write
+// when a table's samples are design parameters).
+std::shared_ptr<const Table1D> inlineTable(const toml::table& t, const TomlReader& r, const std::string& key) {
+  for (auto&& [k, v] : t)
+    if (k.str() != "stroke" && k.str() != "area")
+      r.fail(key + "." + std::string(k.str()), "unknown key (an inline table has stroke = [...] and area = [...])");
+  std::vector<double> col[2];
+  const char* names[2] = {"stroke", "area"};
+  for (int c = 0; c < 2; ++c) {
+    const toml::array* a = t[names[c]].as_array();
+    if (!a) r.fail(key + "." + names[c], "must be an array of numbers");
+    for (const auto& e : *a) col[c].push_back(r.toNumber(e, key + "." + names[c]));
   }
-  return std::make_shared<Table1D>(std::move(x), std::move(y), path);
+  if (col[0].size() != col[1].size())
+    r.fail(key, "stroke has " + std::to_string(col[0].size()) + " samples and area " + std::to_string(col[1].size()) +
+                    ": they must pair up");
+  return checkedTable(std::move(col[0]), std::move(col[1]), "inline", r, key, 1);
 }
 
 // A tyre's load-deflection curve: CSV "deflection,load" [m, N], uniformly spaced from deflection 0 with
@@ -177,7 +204,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     TomlReader r(*t, file, "solver");
     r.allowOnly({"multipliers", "integrator", "stabilization", "rtol", "atol", "step", "max_step", "max_steps",
                  "projection_tolerance", "baumgarte_alpha", "baumgarte_beta", "gauss_seidel_iterations",
-                 "gauss_seidel_tolerance", "contact_tolerance", "event_tolerance"});
+                 "gauss_seidel_tolerance", "contact_tolerance", "event_tolerance", "accuracy"});
     Settings& s = m.settings;
     const std::string mult = r.string("multipliers", "direct");
     if (mult == "direct") s.solver = MultiplierSolver::Direct;
@@ -203,6 +230,13 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     s.gaussSeidelTolerance = r.positive("gauss_seidel_tolerance", s.gaussSeidelTolerance);
     s.contactTolerance = r.positive("contact_tolerance", s.contactTolerance);
     s.eventTolerance = r.positive("event_tolerance", s.eventTolerance);
+    if (r.has("accuracy")) {  // the relative accuracy of the metrics: chooses integrator and tolerances
+      const double a = r.positive("accuracy");
+      if (const std::string rule = accuracyRule(a); !rule.empty()) r.fail("accuracy", "value " + fmt(a) + " " + rule);
+      for (const char* k : {"integrator", "rtol", "atol", "max_step"})
+        if (r.has(k)) r.fail(k, std::string("accuracy chooses integrator, rtol, atol and max_step: give either accuracy or ") + k);
+      applyAccuracy(s, a);
+    }
   }
   // [[body]]
   std::vector<Pose> poses;
@@ -352,7 +386,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       f.type = ConstantForce<double>{bodyRef(r, "body", false), r.vec3("force")};
     } else if (type == "shock_absorber") {
       r.allowOnly({"name", "type", "rod", "cylinder", "rod_point", "cylinder_point", "L0", "D", "D2", "p01", "Omega0",
-                   "n", "rho", "f1", "f1_table", "f2", "xi1", "xi2", "mu", "p_atm", "friction_velocity"});
+                   "n", "rho", "f1", "f1_table", "f2", "xi1", "xi2", "mu", "p_atm", "friction", "friction_velocity"});
       ShockAbsorber<double> s;
       s.bi = bodyRef(r, "rod");
       s.bj = bodyRef(r, "cylinder");
@@ -370,12 +404,17 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       if (!(s.n > 1)) r.fail("n", "polytropic exponent " + fmt(s.n) + " must be > 1");
       s.rho = r.positive("rho");
       s.xi1 = r.positive("xi1");
-      if (r.has("f1") == r.has("f1_table")) r.fail("f1", "give exactly one of f1 (constant area) and f1_table (CSV file)");
+      if (r.has("f1") == r.has("f1_table")) r.fail("f1", "give exactly one of f1 (constant area) and f1_table (CSV file or inline table)");
       s.f1 = r.has("f1") ? r.positive("f1") : 0.0;
       if (r.has("f1_table")) {
-        std::filesystem::path tp(r.string("f1_table"));
-        if (tp.is_relative()) tp = std::filesystem::path(baseDir) / tp;
-        s.f1Table = readTable(tp.string(), r, "f1_table");
+        if (const toml::table* inl = r.get("f1_table")->as_table()) {
+          s.f1Table = inlineTable(*inl, r, "f1_table");
+        } else {
+          std::filesystem::path tp(r.string("f1_table"));
+          if (tp.is_relative()) tp = std::filesystem::path(baseDir) / tp;
+          s.f1Table = readTable(tp.string(), r, "f1_table");
+        }
+        s.f1Values = s.f1Table->ys();
         if (s.f1Table->xMin() > 0) r.fail("f1_table", "table must start at stroke <= 0");
       }
       s.f2 = r.has("f2") ? r.positive("f2") : 0.0;
@@ -385,6 +424,12 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       s.mu = r.nonNegative("mu", 0.0);
       s.pAtm = r.nonNegative("p_atm", 0.0);
       if (!(s.pAtm < s.p01)) r.fail("p_atm", "value " + fmt(s.pAtm) + " must be < p01 = " + fmt(s.p01) + " (the gas must push the rod out)");
+      const std::string law = r.string("friction", "regularised");
+      if (law != "coulomb" && law != "regularised")
+        r.fail("friction", "value '" + law + "' must be \"coulomb\" (exact stick/slip) or \"regularised\"");
+      s.coulomb = law == "coulomb";
+      if (s.coulomb && r.has("friction_velocity"))
+        r.fail("friction_velocity", "applies to friction = \"regularised\" only (this strut's friction is \"coulomb\")");
       s.frictionVelocity = r.positive("friction_velocity", 1e-3);
       f.type = s;
       sc.roles.struts.push_back(static_cast<int>(m.forces.size()));
@@ -599,13 +644,36 @@ void splitPath(const std::string& path, std::string& element, std::string& key, 
 }
 }  // namespace
 
-double getParameter(const toml::table& doc, const std::string& path, const std::string& where) {
+namespace {
+// "f1_table[3]" -> ("f1_table", 3); any other key -> (key, -1).
+std::pair<std::string, long> indexedKey(const std::string& key) {
+  const auto open = key.find('[');
+  if (open == std::string::npos || open == 0 || key.back() != ']') return {key, -1};
+  const std::string digits = key.substr(open + 1, key.size() - open - 2);
+  if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos) return {key, -1};
+  return {key.substr(0, open), std::stol(digits)};
+}
+// The node of a parameter: a number, or the area sample of an inline table.
+toml::node* parameterNode(toml::table& doc, const std::string& path, const std::string& where) {
   std::string element, key;
   splitPath(path, element, key, where);
-  toml::table* t = findElement(const_cast<toml::table&>(doc), element);
+  toml::table* t = findElement(doc, element);
   if (!t) throw InputError(where, 0, path, "no body, joint, stop, force or case named '" + element + "' in the scene");
-  const toml::node* n = t->get(key);
-  if (!n) throw InputError(where, 0, path, "element '" + element + "' has no key '" + key + "' in the scene");
+  const auto [base, k] = indexedKey(key);
+  toml::node* n = t->get(base);
+  if (!n) throw InputError(where, 0, path, "element '" + element + "' has no key '" + base + "' in the scene");
+  if (k < 0) return n;
+  if (n->is_string())
+    throw InputError(where, 0, path, "'" + element + "." + base + "' is a table file: inline it first (inlineTables)");
+  toml::array* area = n->is_table() ? (*n->as_table())["area"].as_array() : nullptr;
+  if (!area || k >= static_cast<long>(area->size()))
+    throw InputError(where, 0, path, "'" + element + "." + base + "' has no sample " + std::to_string(k));
+  return area->get(static_cast<size_t>(k));
+}
+}  // namespace
+
+double getParameter(const toml::table& doc, const std::string& path, const std::string& where) {
+  const toml::node* n = parameterNode(const_cast<toml::table&>(doc), path, where);
   if (auto v = n->value<double>()) return *v;
   throw InputError(where, 0, path, "'" + path + "' is not a number in the scene");
 }
@@ -614,8 +682,37 @@ void setParameter(toml::table& doc, const std::string& path, double value, const
   (void)getParameter(doc, path, where);
   std::string element, key;
   splitPath(path, element, key, where);
+  const auto [base, k] = indexedKey(key);
+  if (k >= 0) {
+    *parameterNode(doc, path, where)->as_floating_point() = value;
+    return;
+  }
   toml::table* t = findElement(doc, element);
   t->insert_or_assign(key, value);
+}
+
+bool tableSample(const std::string& path) {
+  const auto dot = path.rfind('.');
+  return dot != std::string::npos && indexedKey(path.substr(dot + 1)).second >= 0;
+}
+
+void inlineTables(toml::table& doc, const Scene& scene, const std::vector<std::string>& paths) {
+  for (const std::string& path : paths) {
+    if (!tableSample(path)) continue;
+    const auto dot = path.rfind('.');
+    const std::string element = path.substr(0, dot), base = indexedKey(path.substr(dot + 1)).first;
+    toml::table* t = findElement(doc, element);
+    const int f = scene.model.forceIndex(element);
+    if (!t || f < 0 || !t->get(base) || !t->get(base)->is_string()) continue;
+    const auto* sa = std::get_if<ShockAbsorber<double>>(&scene.model.forces[static_cast<size_t>(f)].type);
+    if (!sa || !sa->f1Table || base != "f1_table") continue;
+    toml::array stroke, area;
+    for (double x : sa->f1Table->xs()) stroke.push_back(x);
+    for (double y : sa->f1Values) area.push_back(y);
+    toml::table inl{{"stroke", std::move(stroke)}, {"area", std::move(area)}};
+    inl.is_inline(true);
+    t->insert_or_assign(base, std::move(inl));
+  }
 }
 
 std::string toTomlString(const toml::table& doc) {

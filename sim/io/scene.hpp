@@ -88,8 +88,16 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
 // Design-parameter paths "<element>.<key>" (e.g. "strut.f1", "tyre.K", "airframe.mass"): the element
 // is a body, joint, stop or force element named in the scene, or "case.<name>" for a drop case.
 // Throws InputError naming 'where' if the path does not name a numeric scalar of the scene.
+// A table's sample is "<element>.<key>[k]" (k from 0: "strut.f1_table[3]", the area of the metering
+// pin's fourth sample [m^2]); the document must hold that table inline (see inlineTables).
 double getParameter(const toml::table& doc, const std::string& path, const std::string& where = "");
 void setParameter(toml::table& doc, const std::string& path, double value, const std::string& where = "");
+// Whether a path names a table's sample ("strut.f1_table[3]").
+bool tableSample(const std::string& path);
+// Replaces each table file that one of 'paths' samples by the table inline, { stroke = [...], area =
+// [...] } with the scene's values, so that setParameter can write its samples (best.toml,
+// calibrated.toml, --set); other keys and tables are left as they are.
+void inlineTables(toml::table& doc, const Scene& scene, const std::vector<std::string>& paths);
 
 // Writes the document back as TOML.
 std::string toTomlString(const toml::table& doc);

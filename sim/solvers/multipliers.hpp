@@ -2,43 +2,58 @@
 // W = M^-1 J^T. Two methods, chosen per run (Settings::solver):
 //   direct        J M^-1 J^T lambda = rhs assembled over the row list, exploiting the block sparsity
 //                 (an entry is non-zero only where two rows share a body), solved by an in-place
-//                 sparse Cholesky in minimum-degree order; unilateral rows by an active set
-//                 (pivoting on the most violated row).
+//                 supernodal Cholesky over the envelope of its minimum-degree order; unilateral rows
+//                 by an active set (pivoting on the most violated row).
 //   Gauss-Seidel  the article's iteration, lambda_k += (rhs_k - A_k lambda)/A_kk, projected onto
 //                 lambda_k >= 0 for unilateral rows in a contact solve, warm-started.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include "sim/core/state.hpp"
 
 namespace lg {
 
-// W_k = M^-1 J_k^T for every row in work.list.
+// W_k = M^-1 J_k^T for every row in work.list (M^-1 restricted for a guided or immobile body, see
+// BodyKin::invMassTimes).
 template <class S> void computeW(const Model<S>& m, Workspace<S>& w) {
   for (int k : w.list) {
     const RowInfo& ri = m.rowInfo[k];
     const Row<S>& row = w.rows[k];
     if (ri.bi >= 0) {
       const BodyKin<S>& K = w.kin[ri.bi];
-      w.Wi[k].template head<3>() = K.invMass * row.Ji.template head<3>();
-      w.Wi[k].template tail<3>() = K.IwInv * row.Ji.template tail<3>();
+      if (K.mobility == kFree) {
+        w.Wi[k].template head<3>() = K.invMass * row.Ji.template head<3>();
+        w.Wi[k].template tail<3>() = K.IwInv * row.Ji.template tail<3>();
+      } else {
+        w.Wi[k] = K.invMassTimes(row.Ji.template head<3>(), row.Ji.template tail<3>());
+      }
     }
     if (ri.bj >= 0) {
       const BodyKin<S>& K = w.kin[ri.bj];
-      w.Wj[k].template head<3>() = K.invMass * row.Jj.template head<3>();
-      w.Wj[k].template tail<3>() = K.IwInv * row.Jj.template tail<3>();
+      if (K.mobility == kFree) {
+        w.Wj[k].template head<3>() = K.invMass * row.Jj.template head<3>();
+        w.Wj[k].template tail<3>() = K.IwInv * row.Jj.template tail<3>();
+      } else {
+        w.Wj[k] = K.invMassTimes(row.Jj.template head<3>(), row.Jj.template tail<3>());
+      }
     }
   }
 }
 
 // The elimination order and the symbolic factor of A = J M^-1 J^T for the rows in work.list. Two rows
 // couple where they share a body; the direct solver eliminates by minimum degree (ties: the lower list
-// index), so that the factor follows the constraint graph: on the seed gear 965 multiply-adds instead
-// of the 2925 of a dense 26 x 26 Cholesky. Gauss-Seidel keeps the list order (it sweeps A as it is).
-// below[belowStart[t] .. belowStart[t+1]) lists, ascending, the positions t' > t where L(t', t) may be
-// non-zero: the uneliminated neighbours of the pivot at its elimination.
+// index), so that the factor follows the constraint graph. Gauss-Seidel keeps the list order (it sweeps
+// A as it is). below[belowStart[t] .. belowStart[t+1]) lists, ascending, the positions t' > t where
+// L(t', t) may be non-zero: the uneliminated neighbours of the pivot at its elimination.
+// The direct factor is stored by rows over their envelope: row t holds L(t, envFirst[t] .. t), packed
+// from L[envStart[t]], envFirst[t] being its first structurally non-zero column. On the seed gear the
+// minimum-degree order gives 236 stored entries for 221 non-zeros, and the factor runs as contiguous
+// dot products (no index per multiply-add).
 template <class S> void analyseA(const Model<S>& m, Workspace<S>& w) {
   const int n = static_cast<int>(w.list.size());
   std::vector<std::vector<char>> adj(n, std::vector<char>(n, 0));  // mode switches only
@@ -77,23 +92,166 @@ template <class S> void analyseA(const Model<S>& m, Workspace<S>& w) {
   for (int t = 0; t < n; ++t) w.pos[w.order[t]] = t;
   w.below.clear();
   w.belowStart.assign(1, 0);
+  w.envFirst.assign(n, 0);
+  for (int t = 0; t < n; ++t) w.envFirst[t] = t;
   for (int t = 0; t < n; ++t) {
     const size_t first = w.below.size();
     for (int c : cliques[t]) w.below.push_back(w.pos[c]);
     std::sort(w.below.begin() + static_cast<long>(first), w.below.end());
     w.belowStart.push_back(static_cast<int>(w.below.size()));
+    for (size_t q = first; q < w.below.size(); ++q) w.envFirst[w.below[q]] = std::min(w.envFirst[w.below[q]], t);
+  }
+  w.envStart.assign(n + 1, 0);
+  for (int t = 0; t < n; ++t) w.envStart[t + 1] = w.envStart[t] + (t - w.envFirst[t] + 1);
+  // Supernodes: column t + 1 joins t's run when t's structure below is exactly {t + 1} and t + 1's.
+  auto at = [&](int r, int c) { return w.envStart[r] + (c - w.envFirst[r]); };  // flat index of L(r, c)
+  w.superStart.assign(1, 0);
+  for (int t = 0; t + 1 < n; ++t) {
+    const int b0 = w.belowStart[t], b1 = w.belowStart[t + 1], b2 = w.belowStart[t + 2];
+    const bool same = b1 > b0 && w.below[b0] == t + 1 && (b1 - b0 - 1) == (b2 - b1) &&
+                      std::equal(w.below.begin() + b0 + 1, w.below.begin() + b1, w.below.begin() + b1);
+    if (!same) w.superStart.push_back(t + 1);
+  }
+  if (n > 0) w.superStart.push_back(n);
+  const int nSuper = static_cast<int>(w.superStart.size()) - 1;
+  w.rowAt.assign(n, 0);
+  w.superRows.clear();
+  w.superRowAt.clear();
+  w.superRowStart.assign(1, 0);
+  w.updates.clear();
+  w.updateStart.assign(1, 0);
+  for (int K = 0; K < nSuper; ++K) {
+    const int c0 = w.superStart[K], c1 = w.superStart[K + 1];
+    for (int i = c0; i < c1; ++i) w.rowAt[i] = at(i, c0);
+    const int t = c1 - 1;  // the structure below the run is that of its last column
+    for (int q = w.belowStart[t]; q < w.belowStart[t + 1]; ++q) {
+      w.superRows.push_back(w.below[q]);
+      w.superRowAt.push_back(at(w.below[q], c0));
+    }
+    w.superRowStart.push_back(static_cast<int>(w.superRows.size()));
+    for (int q1 = w.belowStart[t]; q1 < w.belowStart[t + 1]; ++q1)
+      for (int q2 = w.belowStart[t]; q2 <= q1; ++q2) {
+        const int r1 = w.below[q1], r2 = w.below[q2];
+        w.updates.push_back({at(r1, r2), at(r1, c0), at(r2, c0)});
+      }
+    w.updateStart.push_back(static_cast<int>(w.updates.size()));
   }
 }
 
-// A = J M^-1 J^T over work.list (n x n, top-left of work.A), stored in elimination order: entry (a, c)
-// of the list at A(pos[a], pos[c]), lower triangle. It sums J_k . W_l over the bodies the two rows
-// share; pairs with no common body are never visited. The terms depend only on which rows are in the
-// solve, so they are built when that list changes (a contact mode switch), grouped by which body block
-// of each row they use, and replayed as four flat loops otherwise. Gauss-Seidel (list order) also gets
-// the upper triangle.
+// Multiply-adds of one factorisation over the current structure (factorA's dot products).
+template <class S> long factorMultiplyAdds(const Workspace<S>& w) {
+  long madds = 0;
+  const int nSuper = static_cast<int>(w.superStart.size()) - 1;
+  for (int K = 0; K < nSuper; ++K) {
+    const long width = w.superStart[K + 1] - w.superStart[K];
+    const long below = w.superRowStart[K + 1] - w.superRowStart[K];
+    madds += width * (width - 1) * (width + 1) / 6 + below * width * (width - 1) / 2 +
+             (w.updateStart[K + 1] - w.updateStart[K]) * width;
+  }
+  return madds;
+}
+
+// Where entry (row, col), row >= col in elimination order, of A sits in the packed envelope.
+template <class S> int flatIndexA(const Workspace<S>& w, int row, int col) {
+  return w.envStart[row] + (col - w.envFirst[row]);
+}
+
+// Entry (a, c) of the assembled (not yet factored) A, in list indices.
+template <class S> S entryA(const Workspace<S>& w, int a, int c) {
+  const int pa = std::max(w.pos[a], w.pos[c]), pc = std::min(w.pos[a], w.pos[c]);
+  return pc < w.envFirst[pa] ? S(0) : w.L[flatIndexA(w, pa, pc)];
+}
+
+// Dot products in a fixed order, the same bits on every machine and for every scalar: two partial
+// sums, one over the even and one over the odd indices, added at the end. For double on x86-64 the two
+// sums are the two lanes of an SSE2 register (part of the x86-64 baseline), so the vector code computes
+// exactly what the scalar code would.
+template <class S> inline S dotN(const S* a, const S* b, int len) {
+  S s0(0), s1(0);
+  int k = 0;
+  for (; k + 1 < len; k += 2) {
+    s0 += a[k] * b[k];
+    s1 += a[k + 1] * b[k + 1];
+  }
+  if (k < len) s0 += a[k] * b[k];
+  return s0 + s1;
+}
+template <class S> inline S dot6(const S* a, const S* b) { return dotN(a, b, 6); }
+#ifdef __SSE2__
+inline double dotN(const double* a, const double* b, int len) {
+  __m128d acc = _mm_setzero_pd();
+  int k = 0;
+  for (; k + 1 < len; k += 2) acc = _mm_add_pd(acc, _mm_mul_pd(_mm_loadu_pd(a + k), _mm_loadu_pd(b + k)));
+  double s[2];
+  _mm_storeu_pd(s, acc);
+  if (k < len) s[0] += a[k] * b[k];
+  return s[0] + s[1];
+}
+inline double dot6(const double* a, const double* b) {
+  __m128d acc = _mm_mul_pd(_mm_loadu_pd(a), _mm_loadu_pd(b));
+  acc = _mm_add_pd(acc, _mm_mul_pd(_mm_loadu_pd(a + 2), _mm_loadu_pd(b + 2)));
+  acc = _mm_add_pd(acc, _mm_mul_pd(_mm_loadu_pd(a + 4), _mm_loadu_pd(b + 4)));
+  double s[2];
+  _mm_storeu_pd(s, acc);
+  return s[0] + s[1];
+}
+#endif
+
+// The factor's structure for work.list, saved in / restored from the workspace's small cache.
+template <class S> void saveStructure(Workspace<S>& w) {
+  FactorStructure& c = w.structureCache[w.structureNext];
+  w.structureNext = (w.structureNext + 1) % static_cast<int>(w.structureCache.size());
+  c.list = w.list;
+  c.order = w.order;
+  c.pos = w.pos;
+  c.below = w.below;
+  c.belowStart = w.belowStart;
+  c.envFirst = w.envFirst;
+  c.envStart = w.envStart;
+  c.superStart = w.superStart;
+  c.rowAt = w.rowAt;
+  c.superRows = w.superRows;
+  c.superRowAt = w.superRowAt;
+  c.superRowStart = w.superRowStart;
+  c.updates = w.updates;
+  c.updateStart = w.updateStart;
+  c.pairs = w.pairs;
+  c.pairGroup = w.pairGroup;
+}
+template <class S> bool restoreStructure(Workspace<S>& w) {
+  for (const FactorStructure& c : w.structureCache) {
+    if (c.list.empty() || c.list != w.list) continue;
+    w.pairList = w.list;
+    w.order = c.order;
+    w.pos = c.pos;
+    w.below = c.below;
+    w.belowStart = c.belowStart;
+    w.envFirst = c.envFirst;
+    w.envStart = c.envStart;
+    w.superStart = c.superStart;
+    w.rowAt = c.rowAt;
+    w.superRows = c.superRows;
+    w.superRowAt = c.superRowAt;
+    w.superRowStart = c.superRowStart;
+    w.updates = c.updates;
+    w.updateStart = c.updateStart;
+    w.pairs = c.pairs;
+    w.pairGroup = c.pairGroup;
+    return true;
+  }
+  return false;
+}
+
+// A = J M^-1 J^T over work.list, lower triangle in elimination order (entry (a, c) of the list at
+// position (pos[a], pos[c])), in the packed envelope (flatIndexA). It sums J_k . W_l over the
+// bodies the two rows share; pairs with no common body are never visited. The terms depend only on
+// which rows are in the solve, so they are built when that list changes (a contact mode switch),
+// grouped by which body block of each row they use, each with its target precomputed, and replayed as
+// four flat loops otherwise. Gauss-Seidel (list order) also gets the dense matrix work.A.
 template <class S> void assembleA(const Model<S>& m, Workspace<S>& w) {
   const int n = static_cast<int>(w.list.size());
-  if (w.pairList != w.list) {  // rebuild the terms and the factor's structure (mode switches only)
+  const bool direct = m.settings.solver == MultiplierSolver::Direct;
+  if (w.pairList != w.list && !restoreStructure(w)) {  // rebuild the terms and the structure (mode switches only)
     w.pairList = w.list;
     analyseA(m, w);
     w.pairs.clear();
@@ -108,80 +266,88 @@ template <class S> void assembleA(const Model<S>& m, Workspace<S>& w) {
           const RowInfo& rl = m.rowInfo[w.list[c]];
           if (bk != (sideL ? rl.bj : rl.bi)) continue;
           const int pa = w.pos[a], pc = w.pos[c];
-          w.pairs.push_back({std::max(pa, pc), std::min(pa, pc), w.list[a], w.list[c]});
+          w.pairs.push_back({flatIndexA(w, std::max(pa, pc), std::min(pa, pc)), w.list[a], w.list[c]});
         }
       }
     }
     w.pairGroup[4] = static_cast<int>(w.pairs.size());
+    saveStructure(w);
   }
-  for (int c = 0; c < n; ++c)
-    for (int a = c; a < n; ++a) w.A(a, c) = S(0);
-  auto accumulate = [&](int g, auto J, auto W) {
-    for (int p = w.pairGroup[g]; p < w.pairGroup[g + 1]; ++p) {
-      const PairTerm& t = w.pairs[p];
-      w.A(t.row, t.col) += J(t.k).dot(W(t.l));
-    }
-  };
-  auto Ji = [&](int k) -> const Vec6<S>& { return w.rows[k].Ji; };
-  auto Jj = [&](int k) -> const Vec6<S>& { return w.rows[k].Jj; };
-  auto Wi = [&](int l) -> const Vec6<S>& { return w.Wi[l]; };
-  auto Wj = [&](int l) -> const Vec6<S>& { return w.Wj[l]; };
-  accumulate(0, Ji, Wi);
-  accumulate(1, Ji, Wj);
-  accumulate(2, Jj, Wi);
-  accumulate(3, Jj, Wj);
-  if (m.settings.solver == MultiplierSolver::GaussSeidel)
+  S* A = w.L.data();
+  for (int e = 0; e < w.envStart[n]; ++e) A[e] = S(0);
+  const Row<S>* rows = w.rows.data();
+  const Vec6<S>* Wi = w.Wi.data();
+  const Vec6<S>* Wj = w.Wj.data();
+  const PairTerm* P = w.pairs.data();
+  for (int p = w.pairGroup[0]; p < w.pairGroup[1]; ++p) A[P[p].target] += dot6(rows[P[p].k].Ji.data(), Wi[P[p].l].data());
+  for (int p = w.pairGroup[1]; p < w.pairGroup[2]; ++p) A[P[p].target] += dot6(rows[P[p].k].Ji.data(), Wj[P[p].l].data());
+  for (int p = w.pairGroup[2]; p < w.pairGroup[3]; ++p) A[P[p].target] += dot6(rows[P[p].k].Jj.data(), Wi[P[p].l].data());
+  for (int p = w.pairGroup[3]; p < w.pairGroup[4]; ++p) A[P[p].target] += dot6(rows[P[p].k].Jj.data(), Wj[P[p].l].data());
+  if (!direct)  // Gauss-Seidel sweeps the dense matrix (list order = elimination order there)
     for (int c = 0; c < n; ++c)
-      for (int a = c + 1; a < n; ++a) w.A(c, a) = w.A(a, c);
+      for (int a = c; a < n; ++a) w.A(a, c) = w.A(c, a) = entryA(w, a, c);
 }
 
-// Entry (a, c) of the assembled (not yet factored) A, in list indices.
-template <class S> const S& entryA(const Workspace<S>& w, int a, int c) {
-  const int pa = w.pos[a], pc = w.pos[c];
-  return pa >= pc ? w.A(pa, pc) : w.A(pc, pa);
-}
-
-// Sparse Cholesky L L^T of the assembled A, in place, over the symbolic structure of analyseA
-// (right-looking: each pivot column updates only the clique of its neighbours). No allocation.
-// Returns false if A is not positive definite (redundant or inconsistent rows).
+// Cholesky L L^T of the assembled A, in place over its envelope, by supernodes (analyseA): for each
+// run K of columns [c0, c1) that share their structure below, (1) the dense diagonal block, (2) the
+// rows R_K below it (each a short triangular solve of width c1 - c0), (3) the update of every entry
+// (r1, r2) of R_K x R_K by one dot product of width c1 - c0. The dot products of (3) are independent of
+// each other (no chain through the row, unlike a row-by-row factor), and every operand is a contiguous
+// piece of an envelope row. No allocation. Returns false if A is not positive definite (redundant or
+// inconsistent rows).
 template <class S> bool factorA(Workspace<S>& w) {
-  const int n = static_cast<int>(w.list.size());
-  for (int t = 0; t < n; ++t) {
-    S* colt = &w.A(0, t);
-    if (!(value(colt[t]) > 0)) return false;
-    const S d = sqrt(colt[t]);
-    colt[t] = d;
-    const S inv = S(1) / d;
-    const int* nb = w.below.data() + w.belowStart[t];
-    const int cnt = w.belowStart[t + 1] - w.belowStart[t];
-    for (int q = 0; q < cnt; ++q) colt[nb[q]] *= inv;
-    // Rank-1 update of the pivot's clique: column j -= L(., t) L(j, t) over the structure's rows >= j.
-    for (int q = 0; q < cnt; ++q) {
-      const int j = nb[q];
-      const S ljt = colt[j];
-      S* colj = &w.A(0, j);
-      for (int r = q; r < cnt; ++r) colj[nb[r]] -= colt[nb[r]] * ljt;
+  S* L = w.L.data();
+  const int nSuper = static_cast<int>(w.superStart.size()) - 1;
+  for (int K = 0; K < nSuper; ++K) {
+    const int c0 = w.superStart[K], c1 = w.superStart[K + 1], width = c1 - c0;
+    for (int i = c0; i < c1; ++i) {  // (1) the diagonal block
+      S* Li = L + w.rowAt[i];        // Li[k] = L(i, c0 + k)
+      for (int j = c0; j < i; ++j) Li[j - c0] = (Li[j - c0] - dotN(Li, L + w.rowAt[j], j - c0)) * w.invDiag[j];
+      const S d = Li[i - c0] - dotN(Li, Li, i - c0);
+      if (!(value(d) > 0)) return false;
+      Li[i - c0] = sqrt(d);
+      w.invDiag[i] = S(1) / Li[i - c0];
+    }
+    for (int q = w.superRowStart[K]; q < w.superRowStart[K + 1]; ++q) {  // (2) the rows below
+      S* Lr = L + w.superRowAt[q];
+      for (int j = c0; j < c1; ++j) Lr[j - c0] = (Lr[j - c0] - dotN(Lr, L + w.rowAt[j], j - c0)) * w.invDiag[j];
+    }
+    for (int u = w.updateStart[K]; u < w.updateStart[K + 1]; ++u) {  // (3) the update below
+      const FactorUpdate& up = w.updates[u];
+      L[up.dst] -= dotN(L + up.a, L + up.b, width);
     }
   }
   return true;
 }
 
-// x <- A^-1 x with the factor of factorA; x in list order.
+// x <- A^-1 x with the factor of factorA; x in list order. By supernodes like the factor: forward, the
+// diagonal block then one dot product per row below; backward, one update of the block per row below,
+// then the block.
 template <class S> void solveA(Workspace<S>& w, VecX<S>& x) {
   const int n = static_cast<int>(w.list.size());
-  VecX<S>& y = w.permTmp;
+  S* y = w.permTmp.data();
+  const S* L = w.L.data();
   for (int t = 0; t < n; ++t) y[t] = x[w.order[t]];
-  for (int t = 0; t < n; ++t) {  // L z = y
-    const S* col = &w.A(0, t);
-    y[t] /= col[t];
-    const S yt = y[t];
-    for (int q = w.belowStart[t]; q < w.belowStart[t + 1]; ++q) y[w.below[q]] -= col[w.below[q]] * yt;
+  const int nSuper = static_cast<int>(w.superStart.size()) - 1;
+  for (int K = 0; K < nSuper; ++K) {  // L z = y
+    const int c0 = w.superStart[K], c1 = w.superStart[K + 1];
+    for (int i = c0; i < c1; ++i) y[i] = (y[i] - dotN(L + w.rowAt[i], y + c0, i - c0)) * w.invDiag[i];
+    for (int q = w.superRowStart[K]; q < w.superRowStart[K + 1]; ++q)
+      y[w.superRows[q]] -= dotN(L + w.superRowAt[q], y + c0, c1 - c0);
   }
-  for (int t = n - 1; t >= 0; --t) {  // L^T u = z
-    const S* col = &w.A(0, t);
-    S s = y[t];
-    for (int q = w.belowStart[t]; q < w.belowStart[t + 1]; ++q) s -= col[w.below[q]] * y[w.below[q]];
-    y[t] = s / col[t];
+  for (int K = nSuper - 1; K >= 0; --K) {  // L^T u = z
+    const int c0 = w.superStart[K], c1 = w.superStart[K + 1];
+    for (int q = w.superRowStart[K]; q < w.superRowStart[K + 1]; ++q) {
+      const S* Lr = L + w.superRowAt[q];
+      const S yr = y[w.superRows[q]];
+      for (int j = c0; j < c1; ++j) y[j] -= Lr[j - c0] * yr;
+    }
+    for (int i = c1 - 1; i >= c0; --i) {
+      const S* Li = L + w.rowAt[i];
+      const S yi = y[i] * w.invDiag[i];
+      y[i] = yi;
+      for (int k = c0; k < i; ++k) y[k] -= Li[k - c0] * yi;
+    }
   }
   for (int t = 0; t < n; ++t) x[w.order[t]] = y[t];
 }

@@ -228,6 +228,29 @@ TEST_CASE("study run: a design set as data runs the bits of the rebuilt scene", 
   CHECK(r.message.rfind("the scene rejects the design: strut.Omega0: gas volume 0.0012 m^3 must be larger", 0) == 0);
 }
 
+// A table's samples as study variables (the metering pin's areas early and mid-stroke): evaluated as
+// data, and best.toml's document (the table written inline with the design's samples) rebuilds the
+// same bits.
+TEST_CASE("study run: the metering pin's samples as variables, best.toml's table inline", "[optim][parameters][metering_pin]") {
+  const std::string text = "scene = \"" + std::string(LG_SOURCE_DIR) + "/data/seed_gear_metering_pin.toml\"\n"
+                           "[[variable]]\npath = \"strut.f1_table[4]\"\nlower = 5e-5\nupper = 1e-4\n"
+                           "[[variable]]\npath = \"strut.f1_table[16]\"\nlower = 3e-5\nupper = 9e-5\n"
+                           "[[case]]\nname = \"limit\"\n";
+  const Study s = lg::optim::parseStudy(text, "pin.cfg", std::string(LG_SOURCE_DIR) + "/data");
+  const std::vector<double> x{9.1e-5, 4.4e-5};
+  EvaluatorOptions o;
+  o.threads = 2;
+  const Evaluation e = evaluateDesign(s, x, o);
+  REQUIRE(e.ok);
+  const toml::table doc = designDocument(s, x);
+  CHECK(lg::getParameter(doc, "strut.f1_table[4]") == 9.1e-5);
+  CHECK(lg::getParameter(doc, "strut.f1_table[16]") == 4.4e-5);
+  const lg::Scene rebuilt = lg::buildScene(doc, s.sceneFile, s.sceneDir);
+  const auto runs = lg::runCases(rebuilt, designCases(s, rebuilt, false), 2);
+  REQUIRE(runs.size() == e.cases.size());
+  for (size_t i = 0; i < runs.size(); ++i) requireSameMetrics(runs[i].metrics, e.cases[i]);
+}
+
 // The main study with exact derivatives: SLSQP reaches at least the derivative-free result (within
 // 0.1 %), holding every limit of the matrix, in a fraction of COBYLA's evaluations.
 TEST_CASE("study run: SLSQP with exact gradients reaches the COBYLA optimum of the main study", "[optim][seed][gradient]") {

@@ -336,3 +336,53 @@ TEST_CASE("study: optimize exits with status 2 on a bad file and writes nothing"
   std::string msg((std::istreambuf_iterator<char>(err)), std::istreambuf_iterator<char>());
   CHECK(msg.find("cli_bad.cfg:16: key 'variable[0].upper'") != std::string::npos);
 }
+
+// Without a [solver] of its own a study keeps the scene's setting where that is accurate enough for its
+// stopping tolerances (a tenth of xtol_rel / ftol_rel), else it runs at the accuracy they need; it says
+// which. A [solver] accuracy chooses integrator and tolerances, and excludes integrator, rtol and atol.
+TEST_CASE("study: the drop-test solver is accurate enough for the study's tolerances, and says which",
+          "[optim][study][accuracy]") {
+  const std::string v = "path = \"strut.f1\"\nlower = 3e-5\nupper = 1.6e-4\n";
+  // The shipped scene (dopri5, rtol 1e-6: metrics to about 1e-5) meets xtol_rel 1e-4's need of 1e-5.
+  const Study plain = loadStudy(write("acc_plain.cfg", study(v)));
+  CHECK(plain.accuracyNeeded == 1e-5);
+  CHECK(plain.scene.model.settings.integrator == lg::IntegratorKind::DormandPrince);
+  CHECK(plain.solverChoice == "dopri5, rtol 1e-06: the scene's [solver], metrics to about 1e-05, within the 1e-05 that "
+                              "the study's xtol_rel / ftol_rel of 0.0001 needs");
+  // A loose scene (ros34pw2 at rtol 1e-2: about 6e-2) is tightened to the accuracy the study needs.
+  std::string scene;
+  {
+    std::ifstream in(kScene);
+    scene.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const auto at = scene.find("integrator = \"dopri5\"");
+  REQUIRE(at != std::string::npos);
+  scene.replace(at, 21, "integrator = \"ros34pw2\"");
+  const auto rt = scene.find("rtol = 1e-6");
+  REQUIRE(rt != std::string::npos);
+  scene.replace(rt, 11, "rtol = 1e-2");
+  const std::string loose = write("loose_scene.toml", scene);
+  auto onLoose = [&](const std::string& extra) {
+    std::string text = study(v, extra);
+    text.replace(text.find(kScene), kScene.size(), loose);
+    return text;
+  };
+  const Study tightened = loadStudy(write("acc_loose.cfg", onLoose("[algorithm]\nxtol_rel = 1e-3\n")));
+  CHECK(tightened.accuracyNeeded == 1e-4);
+  CHECK(tightened.scene.model.settings.integrator == lg::IntegratorKind::DormandPrince);
+  CHECK(tightened.scene.model.settings.rtol == 1e-4);
+  CHECK(tightened.scene.model.settings.accuracy == 1e-4);
+  CHECK(tightened.solverChoice == "accuracy 0.0001 (dopri5, rtol 0.0001): the 0.0001 that the study's xtol_rel / "
+                                  "ftol_rel of 0.001 needs (the scene's ros34pw2, rtol 0.01 gives metrics to about 0.06)");
+  const toml::table design = designDocument(tightened, {8e-5});  // best.toml runs the same way
+  CHECK(design["solver"]["accuracy"].value_or(0.0) == 1e-4);
+  CHECK_FALSE(design["solver"]["integrator"]);
+  // The study's own [solver] stands, and the report says whether it is accurate enough.
+  const Study own = loadStudy(write("acc_own.cfg", onLoose("[solver]\naccuracy = 1e-3\n[algorithm]\nxtol_rel = 1e-3\n")));
+  CHECK(own.scene.model.settings.integrator == lg::IntegratorKind::DormandPrince);
+  CHECK(own.scene.model.settings.rtol == 1e-3);
+  CHECK(own.solverChoice.find("the study's [solver], metrics to about 0.001, NOT within the 0.0001") != std::string::npos);
+  expectError("acc_both.cfg", onLoose("[solver]\naccuracy = 1e-3\nrtol = 1e-4\n"), 19, "solver.rtol",
+              "give either accuracy or rtol");
+  expectError("acc_range.cfg", onLoose("[solver]\naccuracy = 0.5\n"), 18, "solver.accuracy", "between 1e-05 and 0.1");
+}

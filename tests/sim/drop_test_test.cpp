@@ -1,6 +1,8 @@
 // Validation of the drop-test simulator (sim/drop_test.cpp) against the independent reduced-coordinate
 // reference models (tests/reference, Lagrange equations of the second kind), energy balance, hard
-// cases and the friction regularisation. Tolerances sit near what is achieved; the achieved
+// cases and the friction regularisation. The scenes take the reference models' friction law, regularised
+// (lgtest::referenceDoc); the shipped exact law is related to it in friction_test.cpp. Tolerances sit
+// near what is achieved; the achieved
 // differences are printed (run sim_tests "[validation]" -s to see them).
 #include "scene_support.hpp"  // sim headers, then Catch (see there)
 #include <cstdio>
@@ -13,11 +15,11 @@ using lgtest::relDiff;
 namespace {
 
 const lg::Scene& seedScene() {
-  static const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/seed_gear.toml"));
+  static const lg::Scene sc = lgtest::build(lgtest::referenceDoc("data/seed_gear.toml"));
   return sc;
 }
 const lg::Scene& teleScene() {
-  static const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/telescopic_gear.toml"));
+  static const lg::Scene sc = lgtest::build(lgtest::referenceDoc("data/telescopic_gear.toml"));
   return sc;
 }
 
@@ -212,7 +214,7 @@ void checkStable(const std::string& label, const lg::CaseMetrics& m) {
 TEST_CASE("hard case: the strut reaches its bottoming stop", "[validation][hard]") {
   // Softer gas spring (Omega0/F = 0.204 m > S_max = 0.16 m, so the stop is reached before the gas
   // volume is exhausted) and a fast drop without lift.
-  toml::table doc = lgtest::shippedDoc("data/seed_gear.toml");
+  toml::table doc = lgtest::referenceDoc("data/seed_gear.toml");
   auto& strut = lgtest::element(doc, "force", "strut");
   strut.insert_or_assign("Omega0", 1.6e-3);
   strut.insert_or_assign("p01", 1.0e6);
@@ -268,7 +270,7 @@ TEST_CASE("hard case: rebound, lift-off and the slam onto the extension stop", "
 }
 
 TEST_CASE("hard case: a tyre 100 times stiffer", "[validation][hard]") {
-  toml::table doc = lgtest::shippedDoc("data/seed_gear.toml");
+  toml::table doc = lgtest::referenceDoc("data/seed_gear.toml");
   lgtest::element(doc, "force", "tyre").insert_or_assign("K", 8.0e7);
   const lg::Scene sc = lgtest::build(doc);
   const auto m = run(sc, dropCase("limit", 3.05, 1.0)).metrics;
@@ -278,7 +280,7 @@ TEST_CASE("hard case: a tyre 100 times stiffer", "[validation][hard]") {
 }
 
 TEST_CASE("hard case: a main orifice 10 times smaller", "[validation][hard]") {
-  toml::table doc = lgtest::shippedDoc("data/seed_gear.toml");
+  toml::table doc = lgtest::referenceDoc("data/seed_gear.toml");
   lgtest::element(doc, "force", "strut").insert_or_assign("f1", 7.0e-6);
   const lg::Scene sc = lgtest::build(doc);
   const auto m = run(sc, dropCase("limit", 3.05, 1.0)).metrics;
@@ -297,7 +299,7 @@ TEST_CASE("hard case: a 5 s run", "[validation][hard]") {
 TEST_CASE("friction regularisation converges as its velocity scale shrinks", "[validation][friction]") {
   // sgn(v) ~ v / sqrt(v^2 + eps^2). Tight tolerances so that the eps effect (1e-5 .. 1e-4 relative)
   // is resolved by both models.
-  toml::table doc = lgtest::shippedDoc("data/seed_gear.toml");
+  toml::table doc = lgtest::referenceDoc("data/seed_gear.toml");
   doc["solver"].as_table()->insert_or_assign("rtol", 1e-9);
   doc["solver"].as_table()->insert_or_assign("atol", 1e-11);
   const double eps[] = {1e-2, 1e-3, 1e-4};
@@ -330,10 +332,10 @@ TEST_CASE("efficiency integrals and the strut-force peak are exact to the integr
   // Two cases that once failed here: a plastic impact on the bottoming stop ends a step during the
   // compression (the integral must use the step's end before the velocity jump), and a stiff tyre
   // makes a sharp early P_a peak (it must be located on the dense output, not sampled at step ends).
-  toml::table bottoming = lgtest::shippedDoc("data/seed_gear.toml");
+  toml::table bottoming = lgtest::referenceDoc("data/seed_gear.toml");
   lgtest::element(bottoming, "force", "strut").insert_or_assign("Omega0", 1.6e-3);
   lgtest::element(bottoming, "force", "strut").insert_or_assign("p01", 1.0e6);
-  toml::table stiff = lgtest::shippedDoc("data/seed_gear.toml");
+  toml::table stiff = lgtest::referenceDoc("data/seed_gear.toml");
   lgtest::element(stiff, "force", "tyre").insert_or_assign("K", 8.0e7);
   struct Variant {
     const char* name;
@@ -363,7 +365,7 @@ TEST_CASE("efficiency integrals and the strut-force peak are exact to the integr
 // set by accuracy, not by the stiffness, and it converges to the same solution (second order).
 TEST_CASE("ros2: the seed gear's limit case converges to the reference, and cheaply in stiff phases",
           "[drop_test][ros2]") {
-  lg::Scene sc = lg::loadScene(std::string(LG_SOURCE_DIR) + "/data/seed_gear.toml");
+  lg::Scene sc = lgtest::build(lgtest::referenceDoc("data/seed_gear.toml"));
   const lg::DropCase limit = sc.cases[2];
   REQUIRE(limit.name == "limit");
   const double ref = ref::simulateSeedGear(ref::SeedGearParams{}, limit.sinkSpeed, limit.liftRatio, limit.duration, 1e-10).peakLoad;
@@ -396,7 +398,7 @@ TEST_CASE("ros2: the seed gear's limit case converges to the reference, and chea
 // strut's stiffness: >= 2300 evaluations whatever rtol). Counts, not times: deterministic.
 TEST_CASE("ros34pw2: third-order convergence to the reference, at a fraction of dopri5's evaluations",
           "[drop_test][ros34pw2]") {
-  lg::Scene sc = lg::loadScene(std::string(LG_SOURCE_DIR) + "/data/seed_gear.toml");
+  lg::Scene sc = lgtest::build(lgtest::referenceDoc("data/seed_gear.toml"));
   const lg::DropCase limit = sc.cases[2];
   REQUIRE(limit.name == "limit");
   const double ref = ref::simulateSeedGear(ref::SeedGearParams{}, limit.sinkSpeed, limit.liftRatio, limit.duration, 1e-10).peakLoad;
@@ -445,7 +447,7 @@ TEST_CASE("ros34pw2: the hard cases stay stable and agree with the reference", "
                               {"ros34pw2 bottoming", "strut", "p01", 1.0e6, 3.66, 0.0, 0.8},
                               {"ros34pw2 5 s free drop", "strut", "f1", 7.0e-5, 3.05, 0.0, 5.0}};
   for (const Variant& v : variants) {
-    toml::table doc = lgtest::shippedDoc("data/seed_gear.toml");
+    toml::table doc = lgtest::referenceDoc("data/seed_gear.toml");
     doc["solver"].as_table()->insert_or_assign("integrator", "ros34pw2");
     doc["solver"].as_table()->insert_or_assign("rtol", 1e-5);
     doc["solver"].as_table()->insert_or_assign("atol", 1e-7);

@@ -71,10 +71,25 @@ TEST_CASE("output times: rows at step ends equal the step rows to the dense outp
   lg::CaseOptions listed;
   listed.record = true;
   std::vector<size_t> picked;
+  // A step that ends on an event (a stop engaging or letting go, a strut sticking or breaking away) has
+  // a row after the jump (plastic impact, projection, the new mode's forces), while the dense output
+  // gives the left limit there: such rows are not compared.
+  const int sdot = a.column("s_dot"), fExt = a.column("F_extension"), fBot = a.column("F_bottoming");
+  REQUIRE(std::min({sdot, fExt, fBot}) >= 0);
+  auto mode = [&](size_t k) {
+    const auto& v = a.samples[k].values;
+    return (v[fExt] != 0) + 2 * (v[fBot] != 0) + 4 * (std::abs(v[sdot]) < 1e-9);
+  };
+  int skipped = 0;
   for (size_t k = 1; k < a.samples.size(); k += 7) {
+    if (mode(k) != mode(k - 1)) {
+      ++skipped;
+      continue;
+    }
     picked.push_back(k);
     listed.outputTimes.push_back(a.samples[k].t);
   }
+  CHECK(skipped <= 3);
   const lg::CaseResult b = runWith(listed);
   REQUIRE(b.samples.size() == picked.size());
   // Each column against its largest magnitude: the dense output at a step's end is the step's end state

@@ -65,6 +65,19 @@ inline toml::table& element(toml::table& doc, const std::string& arr, const std:
 
 // A shipped scene's document, for editing.
 inline toml::table shippedDoc(const std::string& rel) { return toml::parse_file(sourcePath(rel)); }
+// A shipped scene with the law of the reduced reference models (tests/reference): every strut's friction
+// regularised over 1e-3 m/s instead of the shipped exact Coulomb stick/slip (tests/sim/friction_test.cpp
+// relates the two).
+inline toml::table referenceDoc(const std::string& rel) {
+  toml::table doc = shippedDoc(rel);
+  if (toml::array* forces = doc["force"].as_array())
+    for (auto& f : *forces)
+      if (toml::table* t = f.as_table(); t && t->get("type") && t->get("type")->value_or(std::string()) == "shock_absorber") {
+        t->insert_or_assign("friction", "regularised");
+        t->insert_or_assign("friction_velocity", 1e-3);
+      }
+  return doc;
+}
 
 // Builds a scene from an edited document; relative tables resolve against the shipped data/ folder.
 inline lg::Scene build(const toml::table& doc, const std::string& name = "edited.toml") {

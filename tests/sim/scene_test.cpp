@@ -57,13 +57,16 @@ TEST_CASE("shipped scenes load", "[scene]") {
   double G = 0;
   for (const auto& b : seed.model.bodies) G += b.mass;
   CHECK(G == Approx(4050.0));
-  // Rows: revolute 5 + 5, spherical 3 + 3, sliding 4, prismatic 5, two stops.
-  CHECK(seed.model.nRows == 5 + 5 + 3 + 3 + 4 + 5 + 2);
+  // Rows: revolute 5 + 5, spherical 3 + 3, sliding 4, two stops, the strut's friction lock (exact
+  // Coulomb friction); the rig's prismatic joint to the ground is eliminated into the airframe's
+  // mobility (translation along y), its 5 rows not built.
+  CHECK(seed.model.nRows == 5 + 5 + 3 + 3 + 4 + 2 + 1);
+  CHECK(seed.model.mobility[seed.model.bodyIndex("airframe")] == lg::kTranslation);
   const lg::Scene tele = lg::loadScene(lgtest::sourcePath("data/telescopic_gear.toml"));
   CHECK(tele.model.nBodies() == 4);
-  // Rows: prismatic 5 (rig) + fixed 6 + prismatic 5 (strut) + revolute 5, two stops; 24 coordinates
-  // - 21 bilateral rows = 3 degrees of freedom: airframe height, stroke, wheel spin.
-  CHECK(tele.model.nRows == 5 + 6 + 5 + 5 + 2);
+  // Rows: fixed 6 + prismatic 5 (strut) + revolute 5, two stops, the friction lock, the rig eliminated;
+  // 24 coordinates - 5 (rig) - 16 bilateral rows = 3 degrees of freedom: airframe height, stroke, wheel spin.
+  CHECK(tele.model.nRows == 6 + 5 + 5 + 2 + 1);
 }
 
 TEST_CASE("bad input names file, line and key, and simulate exits with 2 and writes nothing", "[scene][input]") {
@@ -92,7 +95,7 @@ TEST_CASE("bad input names file, line and key, and simulate exits with 2 and wri
       {"unreadable table", replaced(pin, "tables/metering_pin.csv", "garbled.csv"), "f1_table", "force[2].f1_table",
        "cannot read"},
       // physical consistency at touchdown
-      {"strut L0 not the attachment distance", replaced(seed, "friction_velocity = 1e-3", "friction_velocity = 1e-3\nL0 = 0.62"),
+      {"strut L0 not the attachment distance", replaced(seed, "mu = 0.05", "mu = 0.05\nL0 = 0.62"),
        "L0 = 0.62", "force[2].L0", "differs from the distance of rod_point and cylinder_point at touchdown, 0.6 m"},
       {"tyre pressed into the ground", replaced(seed, "radius = 0.30", "radius = 0.32"), "radius = 0.32", "force[3].radius",
        "pressed 0.02 m into the ground"},

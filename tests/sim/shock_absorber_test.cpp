@@ -4,6 +4,8 @@
 #include <cstdio>
 
 #include "reference/reduced_seed_gear.hpp"
+#include "sim/io/overrides.hpp"
+#include "sim/parameters.hpp"
 #include "reference/reduced_telescopic.hpp"
 
 using lgtest::relDiff;
@@ -43,7 +45,7 @@ ref::StrutLaw telescopicLaw() {
 TEST_CASE("shock-absorber force follows method.md", "[shock_absorber]") {
   // With p_atm = 0 (the article) and with p_atm on: gas (p_1 - p_atm) F, friction mu (p_1 - p_atm) F sgn.
   const double pAtm = GENERATE(0.0, 101325.0);
-  toml::table doc = lgtest::shippedDoc("data/telescopic_gear.toml");
+  toml::table doc = lgtest::referenceDoc("data/telescopic_gear.toml");  // the law's regularised friction
   lgtest::element(doc, "force", "shock").insert_or_assign("p_atm", pAtm);
   const lg::Scene sc = lgtest::build(doc);
   ref::StrutLaw law = telescopicLaw();
@@ -144,10 +146,10 @@ TEST_CASE("metering pin: a constant table reproduces the constant orifice", "[sh
 }
 
 TEST_CASE("atmospheric pressure: off by default, changes the static force by p_atm F", "[shock_absorber][p_atm]") {
-  const lg::Scene base = lg::loadScene(lgtest::sourcePath("data/telescopic_gear.toml"));
+  const lg::Scene base = lgtest::build(lgtest::referenceDoc("data/telescopic_gear.toml"));
   CHECK(std::get<lg::ShockAbsorber<double>>(base.model.forces[base.roles.struts.at(0)].type).pAtm == 0.0);
   const double pAtm = 101325.0;
-  toml::table doc = lgtest::shippedDoc("data/telescopic_gear.toml");
+  toml::table doc = lgtest::referenceDoc("data/telescopic_gear.toml");
   lgtest::element(doc, "force", "shock").insert_or_assign("p_atm", pAtm);
   const lg::Scene atm = lgtest::build(doc);
   const ref::TelescopicParams p;
@@ -172,4 +174,89 @@ TEST_CASE("atmospheric pressure: off by default, changes the static force by p_a
   CHECK(relDiff(m.h_max_m, r.hMax) < 5e-3);
   // Less gas force: a deeper stroke than without p_atm.
   CHECK(m.stroke_max_m > lg::runCase(base, lgtest::findCase(base, "limit")).metrics.stroke_max_m);
+}
+
+// The metering pin's samples as design parameters ("strut.f1_table[k]"): the interpolant in any scalar
+// performs ceres::CubicInterpolator's operations (the same bits for doubles, so the shipped results
+// are unchanged), a sample set as data runs the bits of the scene edited as text (--set inlines the
+// table), an inline table is the CSV's, and the paths are checked.
+TEST_CASE("metering pin: its samples are design parameters", "[shock_absorber][metering_pin][parameters]") {
+  const lg::Scene pin = lg::loadScene(lgtest::sourcePath("data/seed_gear_metering_pin.toml"));
+  const auto& sa = std::get<lg::ShockAbsorber<double>>(pin.model.forces[pin.roles.struts.at(0)].type);
+  REQUIRE(sa.f1Table);
+  REQUIRE(sa.f1Values.size() == 33);
+  // (1) The scalar interpolant against Ceres's, bit for bit, over and beyond the table.
+  int same = 0;
+  for (double s = -0.02; s <= 0.19; s += 0.000173) {
+    CHECK(lg::interpolate(*sa.f1Table, sa.f1Values, s) == (*sa.f1Table)(s));
+    ++same;
+  }
+  CHECK(same > 1000);
+  // (2) Paths, values and units.
+  const lg::Parameter p = lg::resolveParameter(pin, "strut.f1_table[3]");
+  CHECK(lg::parameterValue(pin, p) == sa.f1Table->ys()[3]);
+  CHECK(lg::unitOfKey(p.key) == "m^2");
+  for (const char* bad : {"strut.f1_table[33]", "strut.f1_table[-1]", "strut.f1_table[]", "strut.f1_table[x]", "strut.f1_table"}) {
+    INFO(bad);
+    CHECK_THROWS_AS(lg::resolveParameter(pin, bad), lg::InputError);
+  }
+  const lg::Scene seed = lg::loadScene(lgtest::sourcePath("data/seed_gear.toml"));
+  CHECK_THROWS_WITH(lg::resolveParameter(seed, "strut.f1_table[0]"), Catch::Contains("no numeric design parameter 'f1_table[0]'"));
+  // (3) A narrower pin at mid-stroke as data, and the same by --set (the table written inline): the same bits.
+  const double narrow = 0.8 * sa.f1Values[16];
+  lg::Scene asData = pin;
+  REQUIRE_FALSE(lg::applyParameters(asData, {lg::resolveParameter(pin, "strut.f1_table[16]")}, {narrow}));
+  const lg::Scene asText = lg::applyOverrides(pin, {{"strut.f1_table[16]", narrow}});
+  const lg::DropCase& c = lgtest::findCase(pin, "limit");
+  const lg::CaseMetrics a = lg::runCase(asData, c).metrics, b = lg::runCase(asText, c).metrics,
+                        base = lg::runCase(pin, c).metrics;
+  CHECK(a.peak_load_N == b.peak_load_N);
+  CHECK(a.stroke_max_m == b.stroke_max_m);
+  CHECK(a.energy_dissipated_J == b.energy_dissipated_J);
+  CHECK(a.stroke_max_m != base.stroke_max_m);  // the sample acts (s = 0.08 m is passed after the peak load)
+  // (4) An inline table with the CSV's numbers is the CSV's table, bit for bit.
+  toml::table doc = lgtest::shippedDoc("data/seed_gear_metering_pin.toml");
+  lg::inlineTables(doc, pin, {"strut.f1_table[0]"});
+  REQUIRE(lgtest::element(doc, "force", "strut")["f1_table"].is_table());
+  const lg::CaseMetrics inl = lg::runCase(lgtest::build(doc), c).metrics;
+  CHECK(inl.peak_load_N == base.peak_load_N);
+  CHECK(inl.stroke_max_m == base.stroke_max_m);
+  CHECK(lg::getParameter(doc, "strut.f1_table[16]") == sa.f1Values[16]);
+  // (5) A design with a sample <= 0 is rejected by the scene's rule, named by its key.
+  lg::Scene bad = pin;
+  const auto why = lg::applyParameters(bad, {lg::resolveParameter(pin, "strut.f1_table[5]")}, {-1e-6});
+  REQUIRE(why);
+  CHECK(why->find("f1_table[5]") != std::string::npos);
+  CHECK(why->find("must be > 0") != std::string::npos);
+}
+
+TEST_CASE("metering pin: inline tables are checked like CSV tables", "[shock_absorber][metering_pin][scene]") {
+  const std::string pin = lgtest::readFile(lgtest::sourcePath("data/seed_gear_metering_pin.toml"));
+  auto with = [&](const std::string& table) {
+    std::string t = pin;
+    const std::string key = "f1_table = \"tables/metering_pin.csv\"";
+    const auto at = t.find(key);
+    REQUIRE(at != std::string::npos);
+    return t.replace(at, key.size(), "f1_table = " + table);
+  };
+  const struct {
+    std::string table, message;
+  } cases[] = {
+      {"{ stroke = [0.0, 0.1, 0.2], area = [1e-4, 1e-4, 1e-4] }", "needs at least 4 rows"},
+      {"{ stroke = [0.0, 0.1, 0.2, 0.3], area = [1e-4, 1e-4, 1e-4] }", "must pair up"},
+      {"{ stroke = [0.0, 0.1, 0.25, 0.3], area = [1e-4, 1e-4, 1e-4, 1e-4] }", "uniformly spaced"},
+      {"{ stroke = [0.0, 0.1, 0.2, 0.3], area = [1e-4, 0.0, 1e-4, 1e-4] }", "must be > 0"},
+      {"{ stroke = [0.0, 0.1, 0.2, 0.3], areas = [1e-4, 1e-4, 1e-4, 1e-4] }", "unknown key"},
+      {"{ stroke = [0.0, 0.1, 0.2, 0.3], area = [1e-4, 1e-4, \"x\", 1e-4] }", "f1_table.area"},
+  };
+  for (const auto& k : cases) {
+    INFO(k.table);
+    try {
+      (void)lg::parseScene(with(k.table), "pin.toml", lgtest::sourcePath("data"));
+      FAIL("accepted");
+    } catch (const lg::InputError& e) {
+      CHECK(std::string(e.what()).find("pin.toml:") == 0);
+      CHECK(std::string(e.what()).find(k.message) != std::string::npos);
+    }
+  }
 }

@@ -315,3 +315,32 @@ TEST_CASE("simulate --gradient writes every metric's derivatives, with units", "
   CHECK(simulate(q(lgtest::sourcePath("data/seed_gear.toml")) + " --gradient strut.xyz --out " + q(dir / "bad")) == 2);
   CHECK(!std::filesystem::exists(dir / "bad"));
 }
+
+TEST_CASE("benchmarks: --help, --version and usage errors follow the shared conventions", "[cli][input]") {
+  lgtest::TempDir tmp("bench_cli");
+  auto run = [&](const std::string& program, const std::string& args, std::string& out) {
+    const std::string log = tmp / "log.txt";
+    const std::string cmd = "cd '" + tmp.path.string() + "' && '" + lgtest::binPath(program) + "' " + args + " > '" + log + "' 2>&1";
+    const int st = std::system(cmd.c_str());
+    out = lgtest::readFile(log);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  };
+  std::string out;
+  for (const std::string program : {"bench_drop", "bench_engine", "bench_gradient"}) {
+    INFO(program);
+    CHECK(run(program, "--help", out) == 0);
+    CHECK(out.find("--version") != std::string::npos);
+    CHECK(run(program, "--version", out) == 0);
+    CHECK(out.rfind(program + " ", 0) == 0);
+    CHECK(run(program, "--no-such-flag", out) == 2);
+    CHECK(out.rfind("error: ", 0) == 0);
+    CHECK(std::count(out.begin(), out.end(), '\n') == 1);
+  }
+  // bench_drop outside the project root: its default scene is not there, an error with exit 2, no abort
+  CHECK(run("bench_drop", "", out) == 2);
+  CHECK(out.rfind("error: data/seed_gear.toml", 0) == 0);
+  const std::string scene = "'" + lgtest::sourcePath("data/seed_gear.toml") + "'";
+  CHECK(run("bench_drop", scene + " --case no-such-case", out) == 2);
+  CHECK(out.find("no case named 'no-such-case' (cases: light, medium, limit, reserve, free-drop)") != std::string::npos);
+  CHECK(std::count(out.begin(), out.end(), '\n') == 1);
+}

@@ -20,6 +20,7 @@
 #include <tuple>
 
 #include "sim/constraints/constraint.hpp"
+#include "sim/forces/friction_lock.hpp"
 
 namespace {
 
@@ -220,6 +221,25 @@ TEST_CASE("distance stop, both forms: J and gamma match finite differences of C"
 
 // The FD check above would pass for J = 0 and gamma = 0 if C were constant; make sure the check
 // itself can fail: a wrong sign of one J block must be caught.
+// The friction lock of a force element along the line of two points (sim/forces/friction_lock.hpp): its
+// C is 0 (a velocity-level lock), so its J and gamma are checked against the rate it locks, sdot = -dL/dt:
+// C here is -L. (Its gamma carries 1/L: the second point is put 6 m out in its body, so that L >= 0.8 m
+// for the sampled poses, as for a strut, and the finite differences stay within their truncation bound.)
+struct AxialLockRow {
+  static constexpr int kRows = 1;
+  int bi, bj;
+  Vec3<double> rho_i, rho_j;
+  void write(const BodyKin<double>& Ki, const BodyKin<double>& Kj, Row<double>* rows) const {
+    const Vec3<double> a_i = Ki.R * rho_i, a_j = Kj.R * rho_j;
+    lg::writeAxialLock(Ki, a_i, Kj, a_j, rows[0]);
+    rows[0].C = -((Ki.r + a_i) - (Kj.r + a_j)).norm();
+  }
+};
+
+TEST_CASE("friction lock: J and gamma match finite differences of the rate it locks", "[constraints][jacobian]") {
+  checkType("friction lock", [](Rng& g, int bj) { return AxialLockRow{0, bj, g.vec(), 6.0 * g.unit()}; });
+}
+
 TEST_CASE("the finite-difference check detects a wrong Jacobian", "[constraints][jacobian]") {
   Rng g;
   const lg::Spherical<double> c{0, 1, g.vec(), g.vec()};

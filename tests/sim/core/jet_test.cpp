@@ -91,7 +91,10 @@ J jetFinalStroke(const lg::Scene& sc, const lg::Model<double>& md) {
 // differences to 1e-7 relative (measured 2e-11 for the mass, 5e-10 for k). The finite differences use
 // a relative step of 1e-5; their error is truncation, O(h^2): 1e-6 / 5e-6 at h = 1e-3, 1e-8 / 5e-8 at
 // 1e-4, 2e-11 / 5e-10 at 1e-5 (round-off there ~1e-11). The Jet run's value part equals the double
-// run bit for bit.
+// run to round-off (measured 1.3e-16 relative, asserted 1e-13): the same operations, except that Eigen
+// evaluates some small fixed-size products of doubles with vector packets, summing in another order than
+// its scalar path for Jet, so components that are zero in exact arithmetic carry different round-off
+// noise from the first step on.
 TEST_CASE("Jet derivatives of a run match central finite differences", "[jet][derivatives]") {
   const lg::Scene sc = lgtest::inlineScene(kOscillator);
   const double mass = 2.0, k = 50.0;
@@ -105,7 +108,7 @@ TEST_CASE("Jet derivatives of a run match central finite differences", "[jet][de
   report("Jet: x(T) = %.15f (double %.15f); dx/dm %.12e (FD %.12e, rel. %.1e); dx/dk %.12e (FD %.12e, rel. %.1e)",
          x.a, x0, x.v[0], dxdm, std::abs(x.v[0] - dxdm) / std::abs(dxdm), x.v[1], dxdk,
          std::abs(x.v[1] - dxdk) / std::abs(dxdk));
-  CHECK(x.a == x0);
+  CHECK(std::abs(x.a - x0) <= 1e-13 * std::abs(x0));
   REQUIRE(std::abs(dxdm) > 1e-3);  // the derivatives are not trivially zero
   REQUIRE(std::abs(dxdk) > 1e-5);
   CHECK(std::abs(x.v[0] - dxdm) <= 1e-7 * std::abs(dxdm));

@@ -1,0 +1,170 @@
+// Accuracy on demand and work-precision (sim/accuracy.hpp).
+#include "sim/accuracy.hpp"
+
+#include <limits>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+namespace lg {
+
+namespace {
+
+double relErr(double x, double ref) {
+  if (ref == 0) return x == 0 ? 0.0 : std::abs(x);
+  return std::abs(x - ref) / std::abs(ref);
+}
+
+}  // namespace
+
+double MetricErrors::max() const {
+  return std::max({peakLoad, tPeak, stroke, travel, tyreDeflection, efficiency});
+}
+
+MetricErrors metricErrors(const CaseMetrics& m, const CaseMetrics& r) {
+  MetricErrors e;
+  e.peakLoad = relErr(m.peak_load_N, r.peak_load_N);
+  e.tPeak = relErr(m.t_peak_s, r.t_peak_s);
+  e.stroke = relErr(m.stroke_max_m, r.stroke_max_m);
+  e.travel = relErr(m.h_max_m, r.h_max_m);
+  e.tyreDeflection = relErr(m.tyre_deflection_max_m, r.tyre_deflection_max_m);
+  e.efficiency = relErr(m.efficiency, r.efficiency);
+  return e;
+}
+
+// The mapping. Calibrated on every case of the shipped scenes against dopri5 at rtol 1e-10 (the largest
+// relative error over the six metrics, max step 0.05 s):
+//   ros34pw2  rtol 1e-2: 2.6e-2   3e-3: 7.2e-3   1e-3: 2.8e-3   3e-4: 1.05e-3   1e-4: 4.1e-4   (about 2.5 .. 4 rtol;
+//             the stroke of the telescopic gear is the worst metric)
+//   dopri5    rtol 1e-2: 4.1e-3   1e-3: 3.4e-4   1e-4: 5.2e-5   1e-5: 4.2e-6    (about rtol / 2; the time of
+//             the peak is the worst metric)
+// Looser than 1e-3 the linearly implicit ros34pw2 is the cheaper (at 1e-2 half dopri5's evaluations,
+// whose steps the orifice damping caps), at 1e-3 and tighter dopri5 (as cheap at 1e-3, cheaper below).
+// Each is given a tolerance with a margin of about 2 on that worst error: rtol = accuracy / 6 for
+// ros34pw2 (at most 1e-2), rtol = accuracy for dopri5; atol = rtol / 100; steps up to 0.05 s (flights and
+// rest phases, where nothing happens, need no more).
+AccuracySetting settingForAccuracy(double accuracy) {
+  AccuracySetting a;
+  if (accuracy > 1e-3) {
+    a.integrator = IntegratorKind::Ros34pw2;
+    a.rtol = std::min(accuracy / 6, 1e-2);
+  } else {
+    a.integrator = IntegratorKind::DormandPrince;
+    a.rtol = accuracy;
+  }
+  a.atol = a.rtol * 1e-2;
+  a.maxStep = 0.05;
+  return a;
+}
+
+void applyAccuracy(Settings& s, double accuracy) {
+  const AccuracySetting a = settingForAccuracy(accuracy);
+  s.integrator = a.integrator;
+  s.rtol = a.rtol;
+  s.atol = a.atol;
+  s.maxStep = a.maxStep;
+  s.accuracy = accuracy;
+}
+
+double impliedAccuracy(const Settings& s) {
+  if (s.accuracy > 0) return s.accuracy;
+  double a = std::numeric_limits<double>::quiet_NaN();
+  if (s.integrator == IntegratorKind::DormandPrince) a = s.rtol;
+  if (s.integrator == IntegratorKind::Ros34pw2) a = 6 * s.rtol;
+  return a <= kAccuracyMax ? std::max(a, kAccuracyMin) : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string accuracyRule(double accuracy) {
+  if (std::isfinite(accuracy) && accuracy >= kAccuracyMin && accuracy <= kAccuracyMax) return "";
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "must be a relative accuracy between %g and %g", kAccuracyMin, kAccuracyMax);
+  return buf;
+}
+
+Scene withSolver(const Scene& scene, IntegratorKind kind, double tolerance) {
+  Scene sc = scene;
+  Settings& s = sc.model.settings;
+  s.integrator = kind;
+  if (kind == IntegratorKind::DormandPrince || isRosenbrock(kind)) {
+    s.rtol = tolerance;
+    s.atol = tolerance * 1e-2;
+  } else {
+    s.step = tolerance;
+  }
+  return sc;
+}
+
+namespace {
+
+struct Sweep {
+  IntegratorKind kind;
+  std::vector<double> tolerances;
+};
+
+// The settings of a work-precision diagram: each integrator from loose to tight.
+std::vector<Sweep> sweeps(bool fast) {
+  if (fast)
+    return {{IntegratorKind::DormandPrince, {1e-2, 1e-4, 1e-6}},
+            {IntegratorKind::Ros34pw2, {1e-2, 1e-3, 1e-4}},
+            {IntegratorKind::Ros2, {1e-2, 1e-3}},
+            {IntegratorKind::RK4, {1e-3, 2e-4}},
+            {IntegratorKind::SemiImplicitEuler, {1e-4, 2e-5}}};
+  return {{IntegratorKind::DormandPrince, {1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7}},
+          {IntegratorKind::Ros34pw2, {3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 1e-5}},
+          {IntegratorKind::Ros2, {3e-2, 1e-2, 3e-3, 1e-3, 1e-4}},
+          {IntegratorKind::RK4, {1e-3, 5e-4, 2e-4, 1e-4}},
+          {IntegratorKind::SemiImplicitEuler, {1e-4, 3e-5, 1e-5}}};
+}
+
+}  // namespace
+
+std::string integratorName(IntegratorKind k) {
+  switch (k) {
+    case IntegratorKind::DormandPrince: return "dopri5";
+    case IntegratorKind::Ros34pw2: return "ros34pw2";
+    case IntegratorKind::Ros2: return "ros2";
+    case IntegratorKind::RK4: return "rk4";
+    case IntegratorKind::SemiImplicitEuler: return "euler";
+  }
+  return "?";
+}
+
+std::vector<WorkPrecisionPoint> workPrecision(const Scene& scene, const std::vector<DropCase>& cases,
+                                              const WorkPrecisionOptions& opt) {
+  std::vector<WorkPrecisionPoint> points;
+  for (const DropCase& c : cases) {
+    const CaseMetrics ref = runCase(withSolver(scene, IntegratorKind::DormandPrince, opt.referenceRtol), c).metrics;
+    for (const Sweep& sw : sweeps(opt.fast)) {
+      for (double tol : sw.tolerances) {
+        const Scene sc = withSolver(scene, sw.kind, tol);
+        WorkPrecisionPoint p;
+        p.caseName = c.name;
+        p.integrator = integratorName(sw.kind);
+        p.tolerance = tol;
+        // Timed runs: the median of up to 'repetitions', fewer for a slow setting (0.3 s of runs at most).
+        std::vector<double> times;
+        CaseMetrics m;
+        double spent = 0;
+        for (int r = 0; r < std::max(1, opt.repetitions) && (r == 0 || spent < 0.3); ++r) {
+          const auto a = std::chrono::steady_clock::now();
+          m = runCase(sc, c).metrics;
+          times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count());
+          spent += times.back();
+        }
+        std::sort(times.begin(), times.end());
+        p.timePerDrop = times[times.size() / 2];
+        p.ok = m.ok && ref.ok;
+        p.message = !ref.ok ? "reference run failed: " + ref.message : m.message;
+        p.errors = metricErrors(m, ref);
+        p.steps = m.steps;
+        p.rhsEvaluations = m.rhs_evaluations;
+        points.push_back(p);
+      }
+    }
+  }
+  return points;
+}
+
+}  // namespace lg

@@ -1,0 +1,75 @@
+// Accuracy on demand: which integrator and tolerances give the reported metrics of a drop to a requested
+// relative accuracy, and the work-precision data (error against time per drop) of any scene measured
+// against its own tight-tolerance run.
+//
+// The mapping (settingForAccuracy) is the one place that turns an accuracy into solver settings; the
+// command line (--accuracy), the scene and study parsers ([solver] accuracy) call it. It was calibrated on
+// every shipped scene and case (tests/sim/accuracy_test.cpp checks it at 1e-2, 1e-3, 1e-4 against runs at
+// rtol 1e-10): the largest relative error of the metrics below stays under the accuracy asked for.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "sim/drop_test.hpp"
+
+namespace lg {
+
+// The metrics an accuracy promise covers and their relative errors against a reference run: peak load,
+// its time, max stroke, max airframe travel h, max tyre deflection, efficiency. A metric whose reference
+// is zero (a scene without tyre or strut) counts as exact.
+struct MetricErrors {
+  double peakLoad = 0, tPeak = 0, stroke = 0, travel = 0, tyreDeflection = 0, efficiency = 0;
+  double max() const;
+};
+MetricErrors metricErrors(const CaseMetrics& m, const CaseMetrics& reference);
+
+// Solver settings for a relative accuracy of the metrics.
+struct AccuracySetting {
+  IntegratorKind integrator = IntegratorKind::DormandPrince;
+  double rtol = 1e-6, atol = 1e-8;  // [-], [m, m/s, rad/s]
+  double maxStep = 1e-2;            // [s]
+};
+constexpr double kAccuracyMin = 1e-5;  // the range of accuracies the mapping covers (below 1e-5 the time
+                                       // of a flat peak is not defined that well: two maxima within 1e-6 s)
+constexpr double kAccuracyMax = 1e-1;
+AccuracySetting settingForAccuracy(double accuracy);
+// Sets integrator, rtol, atol and max_step of 's' for 'accuracy' (kAccuracyMin <= accuracy <= kAccuracyMax).
+void applyAccuracy(Settings& s, double accuracy);
+// The relative accuracy of the metrics that solver settings give, by the same calibration read backwards:
+// 'accuracy' if the settings came from one, dopri5 at rtol r about r, ros34pw2 at rtol r about 6 r; NaN
+// for the integrators the calibration does not cover (ros2, rk4, euler) or tolerances beyond it.
+double impliedAccuracy(const Settings& s);
+// Why an accuracy value is not accepted ("" if it is): the rule for messages of the parsers and the CLI.
+std::string accuracyRule(double accuracy);
+
+// One point of a work-precision diagram: a setting (integrator and rtol, or the step of a fixed-step
+// method), its errors against the reference on one case, and what it cost.
+struct WorkPrecisionPoint {
+  std::string caseName;
+  std::string integrator;
+  double tolerance = 0;    // rtol (adaptive) or step [s] (fixed-step)
+  bool ok = true;
+  std::string message;
+  MetricErrors errors;
+  double timePerDrop = 0;  // [s] median wall time of one drop, single thread
+  long steps = 0, rhsEvaluations = 0;
+};
+
+struct WorkPrecisionOptions {
+  double referenceRtol = 1e-10;  // the scene's own tight run: dopri5 at this rtol (atol = rtol / 100)
+  int repetitions = 5;           // timed runs per point (median)
+  bool fast = false;             // fewer settings (tests)
+};
+
+// Every integrator over a range of tolerances on each case, against the scene's own reference run.
+std::vector<WorkPrecisionPoint> workPrecision(const Scene& scene, const std::vector<DropCase>& cases,
+                                              const WorkPrecisionOptions& opt = {});
+
+// The scene with its solver set for one point: an adaptive integrator at rtol = tolerance (atol = rtol /
+// 100), a fixed-step one at step = tolerance.
+Scene withSolver(const Scene& scene, IntegratorKind kind, double tolerance);
+// The scene-file name of an integrator ("dopri5", "ros34pw2", ...).
+std::string integratorName(IntegratorKind kind);
+
+}  // namespace lg
