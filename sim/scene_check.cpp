@@ -93,6 +93,14 @@ class Checker {
     if (!(s.pAtm >= 0 && s.pAtm < s.p01))
       return problem("force", f, "p_atm", "value " + num(s.pAtm) + " must be >= 0 and < p01 = " + num(s.p01) +
                                              " (the gas must push the rod out)");
+    if (s.ownF1e && !s.f1eTable)
+      if (auto p = positive(f, "f1_extension", s.f1e)) return p;
+    if (s.ownXi1e)
+      if (auto p = positive(f, "xi1_extension", s.xi1e)) return p;
+    if (s.ownF2e)
+      if (auto p = positive(f, "f2_extension", s.f2e)) return p;
+    if (s.ownXi2e)
+      if (auto p = positive(f, "xi2_extension", s.xi2e)) return p;
     if (s.declaresReboundOrifice()) {
       if (auto p = positive(f, "f2", s.f2)) return p;
       if (auto p = positive(f, "xi2", s.xi2)) return p;
@@ -134,6 +142,11 @@ class Checker {
     if (s.f1Table && s.f1Table->xMax() < reach - 1e-12)
       return problem("force", f, "f1_table", "table ends at stroke " + num(s.f1Table->xMax()) + " m but the strut can reach " +
                                                  num(reach) + " m");
+    if (s.f1eTable && s.f1eTable->xMax() < reach - 1e-12)
+      return problem("force", f, "f1_extension_table", "table ends at stroke " + num(s.f1eTable->xMax()) +
+                                                           " m but the strut can reach " + num(reach) + " m");
+    for (size_t k = 0; k < s.f1eValues.size(); ++k)
+      if (!(s.f1eValues[k] > 0)) return problem("force", f, "f1_extension_table", "area " + num(s.f1eValues[k]) + " must be > 0");
     return std::nullopt;
   }
 

@@ -10,6 +10,13 @@
 //         + xi_1 rho F^3   sdot|sdot| / (2 f_1^2)    main orifice (f_1 constant or f_1(s) table: C1
 //                                                     Catmull-Rom through the samples f1_table[k])
 //         + xi_2 rho F_2^3 sdot|sdot| / (2 f_2^2)    rebound orifice (only if the scene declares f_2)
+// Orifices by direction (a check valve; only if the scene declares an extension key): in extension
+// (sdot < 0; on a Coulomb slip segment its direction sigma < 0) the orifices take their own areas and
+// loss coefficients, f_1e (constant or a table f_1e(s)), xi_1e, f_2e, xi_2e (each defaulting to the
+// compression one's):
+//         + xi_1e rho F^3   sdot|sdot| / (2 f_1e^2) + xi_2e rho F_2^3 sdot|sdot| / (2 f_2e^2)
+// Both sides vanish with their slope at sdot = 0, so the force stays C1 there (no event); without the
+// keys the law and its bits are the two-orifice law's above.
 // Friction, two laws (the scene's choice):
 //   coulomb      exact stick/slip (friction_lock.hpp): P_f = sigma F_max while slipping in the direction
 //                sigma; while stuck, the lock row's reaction (|P_f| <= F_max). Over a slip segment the
@@ -59,6 +66,13 @@ template <class S> struct ShockAbsorber {
   bool reboundOrifice = false;             // the scene declares f2: the rebound-orifice term exists
   bool coulomb = false;                    // exact stick/slip friction (else regularised)
   int lockRow = -1;                        // its friction-lock row (set by Model::finalize)
+  bool checkValve = false;                 // the scene declares an extension orifice law
+  // Which extension values the scene gives (the others are the compression ones, design moves included).
+  bool ownF1e = false, ownXi1e = false, ownF2e = false, ownXi2e = false;
+  S f1e = S(0), xi1e = S(0);               // [m^2], [-] main orifice in extension (f1e when no table)
+  S f2e = S(0), xi2e = S(0);               // [m^2], [-] rebound orifice in extension
+  std::shared_ptr<const Table1D> f1eTable;  // [m -> m^2] f_1e(s), or null
+  std::vector<S> f1eValues;                 // [m^2] its areas
 
   bool declaresReboundOrifice() const { return reboundOrifice; }
 
@@ -72,6 +86,15 @@ template <class S> struct ShockAbsorber {
   S area() const { return S(M_PI) * D * D / S(4); }
   S annularArea() const { return S(M_PI) * (D2 * D2 - D * D) / S(4); }
   S mainOrifice(const S& s) const { return f1Table ? interpolate(*f1Table, f1Values, s) : f1; }
+  S mainOrificeExtension(const S& s) const {
+    if (!ownF1e) return mainOrifice(s);
+    return f1eTable ? interpolate(*f1eTable, f1eValues, s) : f1e;
+  }
+  S xi1Extension() const { return ownXi1e ? xi1e : xi1; }
+  S f2Extension() const { return ownF2e ? f2e : f2; }
+  S xi2Extension() const { return ownXi2e ? xi2e : xi2; }
+  // The check valve's side: extension (the direction of a Coulomb slip segment, else the sign of sdot).
+  bool extending(const Eval& r) const { return checkValve && (r.sigma != 0 ? r.sigma < 0 : value(r.sdot) < 0.0); }
 
   Eval eval(const Kins<S>& K) const {
     Eval r;
@@ -89,6 +112,16 @@ template <class S> struct ShockAbsorber {
     if (coulomb) r.friction = S(r.sigma) * mu * r.gas;  // 0 when stuck (the lock reacts) or held
     else r.friction = mu * r.gas * smoothSign(r.sdot, frictionVelocity);
     const S sq = r.sigma != 0 ? S(r.sigma) * r.sdot * r.sdot : signedSquare(r.sdot);
+    if (extending(r)) {  // the check valve's extension law
+      const S fe = mainOrificeExtension(r.s);
+      r.orifice1 = xi1Extension() * rho * F * F * F * sq / (S(2) * fe * fe);
+      r.orifice2 = S(0);
+      if (reboundOrifice) {
+        const S F2 = annularArea(), a2 = f2Extension();
+        r.orifice2 = xi2Extension() * rho * F2 * F2 * F2 * sq / (S(2) * a2 * a2);
+      }
+      return r;
+    }
     const S fa = mainOrifice(r.s);
     r.orifice1 = xi1 * rho * F * F * F * sq / (S(2) * fa * fa);
     r.orifice2 = S(0);
@@ -131,12 +164,14 @@ template <class S> struct ShockAbsorber {
     const S v2 = r.sdot * r.sdot, e2 = S(frictionVelocity * frictionVelocity);
     const S q = v2 + e2;
     S c = coulomb ? S(0) : mu * (r.p1 - pAtm) * F * e2 / (q * sqrt(q));
-    const S fa = mainOrifice(r.s);
+    const bool ext = extending(r);
+    const S fa = ext ? mainOrificeExtension(r.s) : mainOrifice(r.s);
     const S speed = r.sigma != 0 ? S(r.sigma) * r.sdot : magnitude(r.sdot);
-    c += xi1 * rho * F * F * F * speed / (fa * fa);
+    c += (ext ? xi1Extension() : xi1) * rho * F * F * F * speed / (fa * fa);
     if (reboundOrifice) {
       const S F2 = annularArea();
-      c += xi2 * rho * F2 * F2 * F2 * speed / (f2 * f2);
+      const S a2 = ext ? f2Extension() : f2;
+      c += (ext ? xi2Extension() : xi2) * rho * F2 * F2 * F2 * speed / (a2 * a2);
     }
     d->setAxial(bi, bj, r.e, r.a_i, r.a_j, c);
   }
@@ -179,12 +214,17 @@ template <class S> struct ShockAbsorber {
     if (key == "xi2") return &xi2;
     if (key == "mu") return &mu;
     if (key == "p_atm") return &pAtm;
+    if (key == "f1_extension") return ownF1e && !f1eTable ? &f1e : nullptr;
+    if (key == "xi1_extension") return ownXi1e ? &xi1e : nullptr;
+    if (key == "f2_extension") return ownF2e ? &f2e : nullptr;
+    if (key == "xi2_extension") return ownXi2e ? &xi2e : nullptr;
     return nullptr;
   }
   template <class T> ShockAbsorber<T> cast() const {
     return {bi, bj, castVec<T>(rho_i), castVec<T>(rho_j), T(L0), T(D), T(D2), T(p01), T(Omega0), T(n), T(rho),
             T(f1), T(f2), T(xi1), T(xi2), T(mu), T(pAtm), frictionVelocity, f1Table,
-            std::vector<T>(f1Values.begin(), f1Values.end()), reboundOrifice, coulomb, lockRow};
+            std::vector<T>(f1Values.begin(), f1Values.end()), reboundOrifice, coulomb, lockRow, checkValve, ownF1e, ownXi1e, ownF2e, ownXi2e, T(f1e), T(xi1e),
+            T(f2e), T(xi2e), f1eTable, std::vector<T>(f1eValues.begin(), f1eValues.end())};
   }
 };
 

@@ -386,7 +386,8 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       f.type = ConstantForce<double>{bodyRef(r, "body", false), r.vec3("force")};
     } else if (type == "shock_absorber") {
       r.allowOnly({"name", "type", "rod", "cylinder", "rod_point", "cylinder_point", "L0", "D", "D2", "p01", "Omega0",
-                   "n", "rho", "f1", "f1_table", "f2", "xi1", "xi2", "mu", "p_atm", "friction", "friction_velocity"});
+                   "n", "rho", "f1", "f1_table", "f2", "xi1", "xi2", "mu", "p_atm", "friction", "friction_velocity",
+                   "f1_extension", "f1_extension_table", "xi1_extension", "f2_extension", "xi2_extension"});
       ShockAbsorber<double> s;
       s.bi = bodyRef(r, "rod");
       s.bj = bodyRef(r, "cylinder");
@@ -431,6 +432,33 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       if (s.coulomb && r.has("friction_velocity"))
         r.fail("friction_velocity", "applies to friction = \"regularised\" only (this strut's friction is \"coulomb\")");
       s.frictionVelocity = r.positive("friction_velocity", 1e-3);
+      // Orifices by direction (a check valve): the extension's area and loss coefficient of each orifice,
+      // each defaulting to its compression one's.
+      for (const char* k : {"f1_extension", "f1_extension_table", "xi1_extension", "f2_extension", "xi2_extension"})
+        s.checkValve = s.checkValve || r.has(k);
+      if (s.checkValve) {
+        if (r.has("f1_extension") && r.has("f1_extension_table"))
+          r.fail("f1_extension", "give at most one of f1_extension (constant area) and f1_extension_table");
+        s.ownF1e = r.has("f1_extension") || r.has("f1_extension_table");
+        if (r.has("f1_extension")) s.f1e = r.positive("f1_extension");
+        if (r.has("f1_extension_table")) {
+          if (const toml::table* inl = r.get("f1_extension_table")->as_table()) {
+            s.f1eTable = inlineTable(*inl, r, "f1_extension_table");
+          } else {
+            s.f1eTable = readTable(scenePath(r, "f1_extension_table", baseDir), r, "f1_extension_table");
+          }
+          if (s.f1eTable->xMin() > 0) r.fail("f1_extension_table", "table must start at stroke <= 0");
+          s.f1eValues = s.f1eTable->ys();
+        }
+        s.ownXi1e = r.has("xi1_extension");
+        if (s.ownXi1e) s.xi1e = r.positive("xi1_extension");
+        for (const char* k : {"f2_extension", "xi2_extension"})
+          if (r.has(k) && !s.reboundOrifice) r.fail(k, "needs the rebound orifice f2");
+        s.ownF2e = r.has("f2_extension");
+        if (s.ownF2e) s.f2e = r.positive("f2_extension");
+        s.ownXi2e = r.has("xi2_extension");
+        if (s.ownXi2e) s.xi2e = r.positive("xi2_extension");
+      }
       f.type = s;
       sc.roles.struts.push_back(static_cast<int>(m.forces.size()));
     } else if (type == "tyre") {

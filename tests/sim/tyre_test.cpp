@@ -746,20 +746,24 @@ TEST_CASE("tyre spin-up: damping term and Jet derivatives of the drag", "[tyre][
   }
 }
 
-// The shipped main gear (data/main_gear.toml: table tyre, tyre damping, spin-up, fore-aft flexibility) in
-// its drop cases: every case within its limits with the energy balance closed below 1e-6 (measured 1.2e-7;
+// The shipped main gear (data/main_gear.toml: check valve, table tyre, tyre damping, spin-up, fore-aft flexibility) in
+// its drop cases: every case within its limits with the energy balance closed below 1e-6 (measured 1.4e-7;
 // the ground's work on the tyres in the balance); the drag never above mu_x P_t at any row; the peak
 // drag the largest P_x of the histories (refined on the dense output: at least the rows' largest, within
 // 1 % of it); spin-up at 60 m/s drags aft, the leg's spring-back then loads it forward (P_x < 0); the
-// drop without forward speed has a drag below 5 % of the spin-up's (the trailing link's rim motion
-// only). The seed gear's histories and summaries have no drag columns (what a scene does not declare
+// limit drop without forward speed (not shipped: its nearly Coulomb slip law at eps = 0.05 m/s costs
+// ten times the steps) has a drag below 5 % of the spin-up's (the trailing link's rim motion only). The seed gear's histories and summaries have no drag columns (what a scene does not declare
 // costs nothing).
 TEST_CASE("main gear scene: spin-up and spring-back in the drop cases", "[tyre][spinup][scene]") {
   const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/main_gear.toml"));
   lg::CaseOptions opt;
   opt.record = true;
-  const auto results = lg::runCases(sc, sc.cases, 2, opt);
-  REQUIRE(results.size() == 3);
+  std::vector<lg::DropCase> cases = sc.cases;
+  REQUIRE(cases.size() == 2);
+  cases.push_back(lgtest::findCase(sc, "limit-spinup"));
+  cases.back().name = "limit";
+  cases.back().forwardSpeed = 0;
+  const auto results = lg::runCases(sc, cases, 2, opt);
   double dragNoSpeed = 0, dragSpinup = 0;
   for (const auto& r : results) {
     const auto& m = r.metrics;
