@@ -391,6 +391,10 @@ template <class S> class DropObserver {
   bool refineWithoutRate(const S& v0, const S& vm, const S& v1, const S& t0, const S& t1, const DenseOutput<S>& d, F f,
                          S& best, bool endOnly = false) {
     const double a = value(v0), m = value(vm), b = value(v1);
+    // A smooth channel sampled at three points rises above its largest sample by less than its variation
+    // over the step: a step that cannot reach the running maximum is not searched (a falling P_a after
+    // its peak, every step).
+    if (std::max({a, m, b}) + std::abs(a - m) + std::abs(m - b) < value(best)) return false;
     const bool atStart = !endOnly && a >= m && a >= b, atMiddle = m > b && (endOnly || m > a);
     if (atStart || atMiddle) {
       const S tb = atStart ? S(0.5) * (t0 + t1) : t1;
@@ -534,7 +538,10 @@ template <class S> class DropObserver {
               const S& endValue, const S& tEnd, double* tFound = nullptr) {
     S v = endValue, tv = tEnd;
     double interior = -1;
-    if (value(rate0) > 0 && value(rate1) < 0) {
+    // Rates of round-off size (a stuck strut's s', ~1e-17 m/s, changes sign at random): a maximum inside
+    // could exceed the ends by at most |rate| h / 2, below the value's round-off: no search.
+    const double reach = std::max(std::abs(value(rate0)), std::abs(value(rate1))) * (value(t1) - value(t0));
+    if (value(rate0) > 0 && value(rate1) < 0 && reach > 1e-14 * std::abs(value(endValue))) {
       auto at = [&](double t) {
         channelsAt(S(t), d, scratch_);
         return value(f(scratch_));
