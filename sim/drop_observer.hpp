@@ -23,6 +23,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "sim/core/brent.hpp"
 #include "sim/drop_test.hpp"
 #include "sim/engine.hpp"
 
@@ -427,6 +428,10 @@ template <class S> class DropObserver {
   bool refineWithoutRate(const S& v0, const S& vm, const S& v1, const S& t0, const S& t1, const DenseOutput<S>& d, F f,
                          S& best, bool endOnly = false, S* tBest = nullptr) {
     const double a = value(v0), m = value(vm), b = value(v1);
+    // A smooth channel sampled at three points rises above its largest sample by less than its variation
+    // over the step: a step that cannot reach the running maximum is not searched (a falling P_a after
+    // its peak, every step).
+    if (std::max({a, m, b}) + std::abs(a - m) + std::abs(m - b) < value(best)) return false;
     const bool atStart = !endOnly && a >= m && a >= b, atMiddle = m > b && (endOnly || m > a);
     if (atStart || atMiddle) {
       const S tb = atStart ? S(0.5) * (t0 + t1) : t1;
@@ -573,54 +578,19 @@ template <class S> class DropObserver {
               const S& endValue, const S& tEnd, double* tFound = nullptr) {
     S v = endValue, tv = tEnd;
     double interior = -1;
-    if (value(rate0) > 0 && value(rate1) < 0) {
+    // Rates of round-off size (a stuck strut's s', ~1e-17 m/s, changes sign at random): a maximum inside
+    // could exceed the ends by at most |rate| h / 2, below the value's round-off: no search.
+    const double reach = std::max(std::abs(value(rate0)), std::abs(value(rate1))) * (value(t1) - value(t0));
+    if (value(rate0) > 0 && value(rate1) < 0 && reach > 1e-14 * std::abs(value(endValue))) {
       auto at = [&](double t) {
         channelsAt(S(t), d, scratch_);
         return value(f(scratch_));
       };
       // Brent's minimisation of -f (golden sections and parabolic steps, Forsythe, Malcolm & Moler's
       // fmin; tolerance sqrt(eps) |t| + 1e-13, where the values are equal to round-off).
-      const double cgold = 0.5 * (3.0 - std::sqrt(5.0)), sqeps = std::sqrt(2.2e-16);
-      const double tol = 1e-13 * std::max(1.0, value(t1));
-      double a = value(t0), b = value(t1), x = a + cgold * (b - a), wv = x, vv = x, e = 0, dd = 0;
-      double fx = -at(x), fw = fx, fv = fx;
-      for (int it = 0; it < 100; ++it) {
-        const double xm = 0.5 * (a + b), tol1 = sqeps * std::abs(x) + tol / 3, tol2 = 2 * tol1;
-        if (std::abs(x - xm) <= tol2 - 0.5 * (b - a)) break;
-        bool golden = true;
-        if (std::abs(e) > tol1) {  // a parabola through x, w, v
-          double r = (x - wv) * (fx - fv), q = (x - vv) * (fx - fw), p = (x - vv) * q - (x - wv) * r;
-          q = 2 * (q - r);
-          if (q > 0) p = -p;
-          q = std::abs(q);
-          const double eOld = e;
-          e = dd;
-          if (std::abs(p) < std::abs(0.5 * q * eOld) && p > q * (a - x) && p < q * (b - x)) {
-            dd = p / q;
-            const double u = x + dd;
-            if (u - a < tol2 || b - u < tol2) dd = xm >= x ? tol1 : -tol1;
-            golden = false;
-          }
-        }
-        if (golden) {
-          e = (x >= xm ? a : b) - x;
-          dd = cgold * e;
-        }
-        const double u = std::abs(dd) >= tol1 ? x + dd : x + (dd > 0 ? tol1 : -tol1);
-        const double fu = -at(u);
-        if (fu <= fx) {
-          (u >= x ? a : b) = x;
-          vv = wv, fv = fw, wv = x, fw = fx, x = u, fx = fu;
-        } else {
-          (u < x ? a : b) = u;
-          if (fu <= fw || wv == x) {
-            vv = wv, fv = fw, wv = u, fw = fu;
-          } else if (fu <= fv || vv == x || vv == wv) {
-            vv = u, fv = fu;
-          }
-        }
-      }
-      const double tm = x;
+      double fx = 0;
+      const double tm = brentMinimise([&](double t) { return -at(t); }, value(t0), value(t1), std::sqrt(2.2e-16),
+                                      1e-13 * std::max(1.0, value(t1)), fx, [](double) { return false; });
       channelsAt(S(tm), d, scratch_);
       const S vm = f(scratch_);
       lastRefinedTime_ = tm;

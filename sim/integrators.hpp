@@ -20,6 +20,7 @@
 #include <string>
 #include <type_traits>
 
+#include "sim/core/brent.hpp"
 #include "sim/engine.hpp"
 
 namespace lg {
@@ -410,44 +411,10 @@ template <class S> class Integrator {
     if (i >= m_.nRows || !m_.rowInfo[i].unilateral || m_.rowInfo[i].friction() || s_.active[i]) return false;
     if (!(value(w_.g0[i]) > 0 && value(w_.g1[i]) > 0 && value(w_.gRate0[i]) < 0 && value(w_.gRate1[i]) > 0)) return false;
     ScopedStage timer(w_.timer, kEvents, m_.settings.profile);
-    const double cgold = 0.5 * (3.0 - std::sqrt(5.0)), t0 = value(dense.t0), tol = 1e-6 * dense.h;
-    double a = t0, b = t0 + dense.h, x = a + cgold * (b - a), wv = x, vv = x, e = 0, d = 0;
-    double fx = eventValueAt(dense, i, x), fw = fx, fv = fx;
-    for (int it = 0; it < 60 && fx > 0; ++it) {
-      const double xm = 0.5 * (a + b), tol1 = tol, tol2 = 2 * tol1;
-      if (std::abs(x - xm) <= tol2 - 0.5 * (b - a)) break;
-      bool golden = true;
-      if (std::abs(e) > tol1) {  // a parabola through x, w, v
-        double r = (x - wv) * (fx - fv), q = (x - vv) * (fx - fw), p = (x - vv) * q - (x - wv) * r;
-        q = 2 * (q - r);
-        if (q > 0) p = -p;
-        q = std::abs(q);
-        const double eOld = e;
-        e = d;
-        if (std::abs(p) < std::abs(0.5 * q * eOld) && p > q * (a - x) && p < q * (b - x)) {
-          d = p / q;
-          if (x + d - a < tol2 || b - x - d < tol2) d = xm >= x ? tol1 : -tol1;
-          golden = false;
-        }
-      }
-      if (golden) {
-        e = (x >= xm ? a : b) - x;
-        d = cgold * e;
-      }
-      const double u = std::abs(d) >= tol1 ? x + d : x + (d > 0 ? tol1 : -tol1);
-      const double fu = eventValueAt(dense, i, u);
-      if (fu <= fx) {
-        (u >= x ? a : b) = x;
-        vv = wv, fv = fw, wv = x, fw = fx, x = u, fx = fu;
-      } else {
-        (u < x ? a : b) = u;
-        if (fu <= fw || wv == x) {
-          vv = wv, fv = fw, wv = u, fw = fu;
-        } else if (fu <= fv || vv == x || vv == wv) {
-          vv = u, fv = fu;
-        }
-      }
-    }
+    const double t0 = value(dense.t0);
+    double fx = 0;
+    const double x = brentMinimise([&](double t) { return eventValueAt(dense, i, t); }, t0, t0 + dense.h, 0.0,
+                                   3e-6 * dense.h, fx, [](double g) { return g <= 0; }, 60);
     if (fx > 0) {  // no contact: the workspace's poses and rows back at the step's end
       poses(m_, s_.y, w_);
       constraintRows(m_, w_);
