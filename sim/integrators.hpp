@@ -335,24 +335,31 @@ template <class S> class Integrator {
     // (For double there are no derivatives: only a stuck friction lock needs its reaction's sign there.)
     S te = S(tFirst);
     if constexpr (!std::is_same_v<S, double>) {
-      dense.at(te, w_.ytmp);
-      w_.lamTmp = s_.lambda;
-      evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);
-      eventFunctions(m_, s_, w_.lamTmp, w_, w_.gtmp);
-      const double ga = value(w_.gtmp[first]);
       const double dt = 1e-7 * std::max(dense.h, 1e-9);
       dense.at(S(tFirst - dt), w_.ytmp);
       w_.lamTmp = s_.lambda;
       evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);
       eventFunctions(m_, s_, w_.lamTmp, w_, w_.g2);
-      const double slope = (ga - value(w_.g2[first])) / dt;
-      if (std::abs(slope) > 0) te -= derivativePart(w_.gtmp[first]) / S(slope);
-    } else if (first < m_.nRows && m_.rowInfo[first].friction() && s_.active[first]) {
       dense.at(te, w_.ytmp);
       w_.lamTmp = s_.lambda;
-      evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);
+      evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);  // f at the event, the mode before it
+      eventFunctions(m_, s_, w_.lamTmp, w_, w_.gtmp);
+      const double ga = value(w_.gtmp[first]);
+      const double slope = (ga - value(w_.g2[first])) / dt;
+      if (std::abs(slope) > 0) te -= derivativePart(w_.gtmp[first]) / S(slope);
+      // The state at the moved event time: the dense output at its value, moved along f at the event
+      // (the right-hand side there, not the interpolant's slope, which a step across a kink of f averages
+      // over both sides of it).
+      dense.at(S(tFirst), s_.y);
+      s_.y += w_.fTmp * (te - S(tFirst));
+    } else {
+      if (first < m_.nRows && m_.rowInfo[first].friction() && s_.active[first]) {
+        dense.at(te, w_.ytmp);
+        w_.lamTmp = s_.lambda;
+        evaluate(m_, w_.ytmp, s_.active, w_.lamTmp, w_, w_.fTmp);
+      }
+      dense.at(te, s_.y);
     }
-    dense.at(te, s_.y);
     s_.t = te;
     // Act on it: a stop whose multiplier would pull is let go; a stuck friction lock whose reaction
     // reached its bound slips (against the reaction); a slipping one that stopped is at rest. Then the
