@@ -17,7 +17,7 @@ std::string num(double v, int digits = 4) {
 }
 
 // The figure of a gradient metric, in the run's scalar.
-template <class S> S figure(const CaseFigures<S>& F, const std::string& metric) {
+template <class S> S figure(const CaseFigures<S>& F, const std::string& metric, bool drag) {
   if (metric == "peak_load") return F.peak_load;
   if (metric == "t_peak") return F.t_peak;
   if (metric == "load_factor") return F.load_factor;
@@ -32,6 +32,7 @@ template <class S> S figure(const CaseFigures<S>& F, const std::string& metric) 
   if (metric == "strut_force") return F.strut_force_max;
   if (metric == "energy_absorbed") return F.energy_absorbed;
   if (metric == "rebound_velocity") return F.rebound_velocity;
+  if (metric == "drag_peak" && drag) return F.drag_peak;  // (a scene without a drag load has none)
   return S(std::numeric_limits<double>::quiet_NaN());
 }
 
@@ -109,6 +110,8 @@ bool runPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>
   applyCase(scene, m, c, L);
   State<J> s = caseState(scene, m, V);
   Workspace<J> w(m);
+  bool drag = false;  // a tyre with a longitudinal force: the peak drag is a figure of the run
+  for (int f : scene.roles.tyres) drag = drag || std::get<Tyre<double>>(scene.model.forces[f].type).longitudinal;
   CaseOptions opt;
   DropObserver<J> obs(scene, m, c, V, L, opt, nullptr);
   const RunStatus st = simulate(m, s, w, c.duration, obs);
@@ -126,7 +129,7 @@ bool runPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>
     return false;
   }
   for (auto& md : g.metrics) {
-    const J f = figure(F, md.metric);
+    const J f = figure(F, md.metric, drag);
     md.value = f.a;
     for (size_t j = first; j < std::min(params.size(), first + N); ++j) md.d[j] = f.v[static_cast<int>(j - first)];
   }
@@ -231,7 +234,7 @@ const std::vector<MetricInfo>& gradientMetrics() {
     std::vector<MetricInfo> out;
     for (const char* n : {"peak_load", "t_peak", "load_factor", "inertia_load_factor", "stroke", "stroke_margin", "h_max",
                           "tyre_deflection", "tyre_margin", "efficiency", "strut_efficiency", "strut_force",
-                          "energy_absorbed", "rebound_velocity"})
+                          "energy_absorbed", "rebound_velocity", "drag_peak"})
       out.push_back(*findMetric(n));
     return out;
   }();

@@ -21,6 +21,7 @@ const std::vector<MetricInfo>& metricCatalogue() {
       {"strut_force", "N", "largest strut force P_a,max of any strut", 1e3},
       {"energy_absorbed", "J", "work of the gear over the compression, integral(P_y dh) to h_max", 100},
       {"rebound_velocity", "m/s", "largest upward airframe velocity after the compression", 0.01},
+      {"drag_peak", "N", "largest drag load P_x (wheel spin-up, positive aft; the tyres that declare mu_x)", 1e3},
   };
   return c;
 }
@@ -52,6 +53,7 @@ double metricValue(const CaseMetrics& m, const std::string& name) {
   if (name == "strut_force") return m.strut_force_max_N;
   if (name == "energy_absorbed") return m.energy_absorbed_J;
   if (name == "rebound_velocity") return m.rebound_velocity_mps;
+  if (name == "drag_peak") return m.longitudinal ? m.drag_peak_N : std::numeric_limits<double>::quiet_NaN();
   return std::numeric_limits<double>::quiet_NaN();
 }
 

@@ -222,6 +222,10 @@ TEST_CASE("study: bad files name file, line and key", "[optim][study]") {
     expectError("default.cfg", study("path = \"strut.f1\"\nlower = 1e-4\nupper = 2e-4\n"), 14, "variable[0].path",
                 "outside");
   }
+  SECTION("a metric the scene does not measure") {
+    expectError("drag.cfg", study(v, "[[constraint]]\nmetric = \"drag_peak\"\nmax = 5e4\n"), 18, "constraint[1].metric",
+                "'drag_peak' needs a tyre with a longitudinal force (mu_x: wheel spin-up) in the scene");
+  }
   SECTION("unknown algorithm") {
     expectError("algo.cfg", study(v, "[algorithm]\nname = \"LN_COBYLAX\"\n"), 18, "algorithm.name", "not an NLopt");
   }
