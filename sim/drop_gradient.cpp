@@ -131,7 +131,8 @@ bool runPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>
   for (auto& md : g.metrics) {
     const J f = figure(F, md.metric, drag);
     md.value = f.a;
-    for (size_t j = first; j < std::min(params.size(), first + N); ++j) md.d[j] = f.v[static_cast<int>(j - first)];
+    for (size_t j = first; j < std::min(params.size(), first + N); ++j)  // (no derivative of a metric the scene has not)
+      md.d[j] = std::isnan(f.a) ? f.a : f.v[static_cast<int>(j - first)];
   }
   if (first == 0) {
     kinks = findKinks(F, c, obs.bottomingSpeed());
