@@ -15,6 +15,7 @@
 #include <string>
 
 #include "calib/calibration.hpp"
+#include "files_support.hpp"
 #include "calib/fit.hpp"
 #include "calib/synthetic.hpp"
 #include "sim/io/overrides.hpp"
@@ -23,35 +24,12 @@
 
 namespace calibtest {
 
-inline std::string sourcePath(const std::string& rel) { return std::string(LG_SOURCE_DIR) + "/" + rel; }
-inline std::string binPath(const std::string& name) { return std::string(LG_BIN_DIR) + "/" + name; }
+using lgtest::binPath;
+using lgtest::readFile;
+using lgtest::sourcePath;
+using lgtest::TempDir;
+using lgtest::writeFile;
 inline std::string q(const std::string& s) { return "'" + s + "'"; }
-
-inline std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-inline void writeFile(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
-
-// A fresh, empty directory under the system temp dir (removed by the destructor).
-struct TempDir {
-  std::filesystem::path path;
-  explicit TempDir(const std::string& tag) {
-    std::random_device rd;
-    path = std::filesystem::temp_directory_path() / ("lg_calib_" + tag + "_" + std::to_string(rd()) + "_" + std::to_string(rd()));
-    std::filesystem::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
-  }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
 
 // The seed gear with parameters changed (PATH=VALUE).
 inline lg::Scene seedGear(const std::vector<lg::ParameterOverride>& sets = {}) {

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string>
 
+#include "files_support.hpp"  // sourcePath, binPath, readFile, writeFile, TempDir
 #include "sim/drop_test.hpp"
 #include "sim/engine.hpp"
 #include "sim/io/results.hpp"
@@ -20,36 +21,6 @@
 #include <catch2/catch.hpp>
 
 namespace lgtest {
-
-inline std::string sourcePath(const std::string& rel) { return std::string(LG_SOURCE_DIR) + "/" + rel; }
-inline std::string binPath(const std::string& name) { return std::string(LG_BIN_DIR) + "/" + name; }
-
-inline std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-inline void writeFile(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
-
-// A fresh, empty directory under the system temp dir (removed by the destructor).
-struct TempDir {
-  std::filesystem::path path;
-  explicit TempDir(const std::string& tag) {
-    std::random_device rd;
-    path = std::filesystem::temp_directory_path() /
-           ("lg_" + tag + "_" + std::to_string(rd()) + "_" + std::to_string(rd()));
-    std::filesystem::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
-  }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
 
 // The named table of array 'arr' ("body", "joint", "stop", "force", "case") of a scene document.
 inline toml::table& element(toml::table& doc, const std::string& arr, const std::string& name) {

@@ -1,6 +1,6 @@
 // The scene parser (sim/io/scene.cpp): the shipped scenes load; bad input gives lg::InputError naming
 // the file, the line and the key, and `simulate` on such a file exits with status 2 without writing.
-#include "scene_support.hpp"  // sim headers, then Catch (see there)
+#include "bad_input_support.hpp"  // sim headers, then Catch (see there); the bad-input checks
 
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -8,36 +8,8 @@
 #include <cstdlib>
 
 namespace {
-
-// 1-based line of the first occurrence of 'needle' in 'text' (0 if absent).
-int lineOf(const std::string& text, const std::string& needle) {
-  const auto pos = text.find(needle);
-  if (pos == std::string::npos) return 0;
-  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(pos), '\n'));
-}
-
-// Replaces the first occurrence of 'from' (which must exist) by 'to'.
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  REQUIRE(pos != std::string::npos);
-  return text.replace(pos, from.size(), to);
-}
-
-struct BadScene {
-  std::string what;      // what is wrong
-  std::string text;      // the scene
-  std::string marker;    // text starting on the line the error must name (the table's header for a missing key)
-  std::string key;       // what the message must name as the key
-  std::string rule;      // a word of the rule
-};
-
-int runSimulate(const std::string& scene, const std::string& out, const std::string& errFile) {
-  const std::string cmd = "'" + lgtest::binPath("simulate") + "' '" + scene + "' --out '" + out + "' --quiet --threads 1 2>'" +
-                          errFile + "' >/dev/null";
-  const int st = std::system(cmd.c_str());
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
+using lgtest::replacedText;
+using BadScene = lgtest::BadInput;
 }  // namespace
 
 TEST_CASE("shipped scenes load", "[scene]") {
@@ -74,86 +46,86 @@ TEST_CASE("bad input names file, line and key, and simulate exits with 2 and wri
   const std::string pin = lgtest::readFile(lgtest::sourcePath("data/seed_gear_metering_pin.toml"));
   const std::string leverMass = "mass = 16.0\n";
   std::vector<BadScene> bad = {
-      {"missing key", replaced(seed, leverMass, ""), "[[body]]\nname = \"lever\"", "body[1].mass", "missing"},
-      {"unknown key", replaced(seed, leverMass, leverMass + "colour = \"red\"\n"), "colour", "body[1].colour", "unknown key"},
-      {"negative area", replaced(seed, "f1 = 7.0e-5", "f1 = -7.0e-5"), "f1 = -7.0e-5", "force[2].f1", "> 0"},
-      {"negative mass", replaced(seed, "mass = 20.0", "mass = -20.0"), "mass = -20.0", "body[0].mass", "> 0"},
-      {"zero inertia", replaced(seed, "inertia = [0.45, 0.45, 0.80]", "inertia = [0.45, 0.0, 0.80]"), "inertia = [0.45, 0.0",
+      {"missing key", replacedText(seed, leverMass, ""), "[[body]]\nname = \"lever\"", "body[1].mass", "missing"},
+      {"unknown key", replacedText(seed, leverMass, leverMass + "colour = \"red\"\n"), "colour", "body[1].colour", "unknown key"},
+      {"negative area", replacedText(seed, "f1 = 7.0e-5", "f1 = -7.0e-5"), "f1 = -7.0e-5", "force[2].f1", "> 0"},
+      {"negative mass", replacedText(seed, "mass = 20.0", "mass = -20.0"), "mass = -20.0", "body[0].mass", "> 0"},
+      {"zero inertia", replacedText(seed, "inertia = [0.45, 0.45, 0.80]", "inertia = [0.45, 0.0, 0.80]"), "inertia = [0.45, 0.0",
        "body[0].inertia", "> 0"},
-      {"p_atm not below p01", replaced(seed, "mu = 0.05", "p_atm = 4.0e6\nmu = 0.05"), "p_atm = 4.0e6", "force[2].p_atm",
+      {"p_atm not below p01", replacedText(seed, "mu = 0.05", "p_atm = 4.0e6\nmu = 0.05"), "p_atm = 4.0e6", "force[2].p_atm",
        "< p01"},
-      {"joint naming an unknown body", replaced(seed, "body1 = \"wheel\"", "body1 = \"wheels\""), "body1 = \"wheels\"",
+      {"joint naming an unknown body", replacedText(seed, "body1 = \"wheel\"", "body1 = \"wheels\""), "body1 = \"wheels\"",
        "joint[1].body1", "not a body"},
-      {"stop violated at t = 0", replaced(seed, "max_distance = 0.60", "max_distance = 0.59"), "[[stop]]\nname = \"extension\"",
+      {"stop violated at t = 0", replacedText(seed, "max_distance = 0.60", "max_distance = 0.59"), "[[stop]]\nname = \"extension\"",
        "stop.extension", "violate"},
       {"joint violated at t = 0",
        seed + "\n[[joint]]\nname = \"guide\"\ntype = \"point_on_plane\"\nbody1 = \"wheel\"\nbody2 = \"ground\"\n"
               "point = [-0.40, 0.30, 0.0]\nplane_point = [0.0, 0.0, 0.05]\nnormal = [0.0, 0.0, 1.0]\n",
        "[[joint]]\nname = \"guide\"", "joint.guide", "violate"},
-      {"missing table", replaced(pin, "tables/metering_pin.csv", "tables/no_such_pin.csv"), "f1_table", "force[2].f1_table",
+      {"missing table", replacedText(pin, "tables/metering_pin.csv", "tables/no_such_pin.csv"), "f1_table", "force[2].f1_table",
        "cannot read"},
-      {"unreadable table", replaced(pin, "tables/metering_pin.csv", "garbled.csv"), "f1_table", "force[2].f1_table",
+      {"unreadable table", replacedText(pin, "tables/metering_pin.csv", "garbled.csv"), "f1_table", "force[2].f1_table",
        "cannot read"},
       // physical consistency at touchdown
-      {"strut L0 not the attachment distance", replaced(seed, "mu = 0.05", "mu = 0.05\nL0 = 0.62"),
+      {"strut L0 not the attachment distance", replacedText(seed, "mu = 0.05", "mu = 0.05\nL0 = 0.62"),
        "L0 = 0.62", "force[2].L0", "differs from the distance of rod_point and cylinder_point at touchdown, 0.6 m"},
-      {"tyre pressed into the ground", replaced(seed, "radius = 0.30", "radius = 0.32"), "radius = 0.32", "force[3].radius",
+      {"tyre pressed into the ground", replacedText(seed, "radius = 0.30", "radius = 0.32"), "radius = 0.32", "force[3].radius",
        "pressed 0.02 m into the ground"},
-      {"gas volume below the swept volume", replaced(seed, "Omega0 = 1.30e-3", "Omega0 = 1.20e-3"), "Omega0 = 1.20e-3",
+      {"gas volume below the swept volume", replacedText(seed, "Omega0 = 1.30e-3", "Omega0 = 1.20e-3"), "Omega0 = 1.20e-3",
        "force[2].Omega0", "must be larger than the volume swept at the bottoming stroke, F S_max = 0.001256637061 m^3"},
-      {"bottoming stop not shorter than the extension stop", replaced(seed, "min_distance = 0.44", "min_distance = 0.60"),
+      {"bottoming stop not shorter than the extension stop", replacedText(seed, "min_distance = 0.44", "min_distance = 0.60"),
        "min_distance = 0.60", "stop[1].min_distance", "must be shorter than the max_distance 0.6 m"},
-      {"zero sink speed", replaced(seed, "sink_speed = 2.0", "sink_speed = 0.0"), "sink_speed = 0.0", "case[0].sink_speed",
+      {"zero sink speed", replacedText(seed, "sink_speed = 2.0", "sink_speed = 0.0"), "sink_speed = 0.0", "case[0].sink_speed",
        "must be > 0 [m/s]"},
-      {"negative sink speed", replaced(seed, "sink_speed = 2.0", "sink_speed = -2.0"), "sink_speed = -2.0",
+      {"negative sink speed", replacedText(seed, "sink_speed = 2.0", "sink_speed = -2.0"), "sink_speed = -2.0",
        "case[0].sink_speed", "must be > 0 [m/s]"},
       // the certification matrix
-      {"certification without a load factor", replaced(seed, "limit_load_factor = 2.5", ""), "[certification]",
+      {"certification without a load factor", replacedText(seed, "limit_load_factor = 2.5", ""), "[certification]",
        "certification.limit_load_factor", "missing"},
-      {"unknown basis", replaced(seed, "basis = \"part25\"", "basis = \"part26\""), "basis = \"part26\"",
+      {"unknown basis", replacedText(seed, "basis = \"part25\"", "basis = \"part26\""), "basis = \"part26\"",
        "certification.basis", "\"part25\", \"cs25\", \"part23\", \"cs23\", \"custom\""},
-      {"unit mass below the gear's", replaced(seed, "landing_mass = 4050.0", "landing_mass = 50.0"), "landing_mass = 50.0",
+      {"unit mass below the gear's", replacedText(seed, "landing_mass = 4050.0", "landing_mass = 50.0"), "landing_mass = 50.0",
        "certification.landing_mass", "must exceed the mass of the gear's other bodies, 70 kg"},
-      {"Part 23 without a wing loading", replaced(seed, "basis = \"part25\"", "basis = \"part23\""), "[certification]",
+      {"Part 23 without a wing loading", replacedText(seed, "basis = \"part25\"", "basis = \"part23\""), "[certification]",
        "certification.wing_loading", "needs the wing loading"},
-      {"Part 23 lift above 2/3", replaced(replaced(seed, "basis = \"part25\"", "basis = \"part23\"\nwing_loading = 150.0"),
+      {"Part 23 lift above 2/3", replacedText(replacedText(seed, "basis = \"part25\"", "basis = \"part23\"\nwing_loading = 150.0"),
                                           "lift_ratio = 1.0\nlimit_load", "lift_ratio = 0.8\nlimit_load"),
        "lift_ratio = 0.8", "certification.lift_ratio", "<= 2/3"},
-      {"TOML syntax error", replaced(seed, "mass = 12.0", "mass = 12.0.0"), "mass = 12.0.0", "mass", "TOML"},
-      {"TOML syntax error, unclosed array", replaced(seed, "point = [-0.20, 0.45, 0.0]\n", "point = [-0.20, 0.45, 0.0\n"),
+      {"TOML syntax error", replacedText(seed, "mass = 12.0", "mass = 12.0.0"), "mass = 12.0.0", "mass", "TOML"},
+      {"TOML syntax error, unclosed array", replacedText(seed, "point = [-0.20, 0.45, 0.0]\n", "point = [-0.20, 0.45, 0.0\n"),
        "[[joint]]\nname = \"b\"", "point", "TOML"},  // noticed on the next header, named by the open array
-      {"TOML syntax error, a key without '='", replaced(seed, "mass = 20.0", "mass 20.0"), "mass 20.0", "mass", "TOML"},
+      {"TOML syntax error, a key without '='", replacedText(seed, "mass = 20.0", "mass 20.0"), "mass 20.0", "mass", "TOML"},
       {"TOML syntax error, unterminated multi-line string",
-       replaced(seed, "name = \"seed_gear\"", "name = \"seed_gear\"\ndescription = \"\"\"a gear"),
+       replacedText(seed, "name = \"seed_gear\"", "name = \"seed_gear\"\ndescription = \"\"\"a gear"),
        "description = \"\"\"a gear", "description", "never closed"},
       // tables of the wrong kind are errors, never ignored
-      {"solver as an array of tables", replaced(seed, "[solver]", "[[solver]]"), "[[solver]]", "solver",
+      {"solver as an array of tables", replacedText(seed, "[solver]", "[[solver]]"), "[[solver]]", "solver",
        "not an array of tables"},
       {"solver as a string",
        "solver = \"dopri5\"\n[[body]]\nname = \"w\"\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\nposition = [0.0, 0.3, 0.0]\n",
        "solver = \"dopri5\"", "solver", "must be a table [solver]"},
-      {"scene as an array of tables", replaced(seed, "[scene]", "[[scene]]"), "[[scene]]", "scene", "not an array of tables"},
+      {"scene as an array of tables", replacedText(seed, "[scene]", "[[scene]]"), "[[scene]]", "scene", "not an array of tables"},
       // counts are whole numbers in range, never truncated
-      {"fractional max_steps", replaced(seed, "atol = 1e-8", "atol = 1e-8\nmax_steps = 10.5"), "max_steps = 10.5",
+      {"fractional max_steps", replacedText(seed, "atol = 1e-8", "atol = 1e-8\nmax_steps = 10.5"), "max_steps = 10.5",
        "solver.max_steps", "must be a whole number"},
-      {"huge max_steps", replaced(seed, "atol = 1e-8", "atol = 1e-8\nmax_steps = 1e300"), "max_steps = 1e300",
+      {"huge max_steps", replacedText(seed, "atol = 1e-8", "atol = 1e-8\nmax_steps = 1e300"), "max_steps = 1e300",
        "solver.max_steps", "must be in [1, 1000000000000]"},
-      {"fractional Gauss-Seidel sweeps", replaced(seed, "atol = 1e-8", "atol = 1e-8\ngauss_seidel_iterations = 0.5"),
+      {"fractional Gauss-Seidel sweeps", replacedText(seed, "atol = 1e-8", "atol = 1e-8\ngauss_seidel_iterations = 0.5"),
        "gauss_seidel_iterations = 0.5", "solver.gauss_seidel_iterations", "must be a whole number"},
       // finite numbers only
-      {"NaN in a quaternion", replaced(seed, "x_axis = [1.0, 0.0, 0.0]", "quaternion = [nan, 0.0, 0.0, 0.0]"),
+      {"NaN in a quaternion", replacedText(seed, "x_axis = [1.0, 0.0, 0.0]", "quaternion = [nan, 0.0, 0.0, 0.0]"),
        "quaternion = [nan", "body[0].quaternion", "must be finite"},
       // a misspelt key is an unknown key, with the allowed ones
-      {"misspelt body1", replaced(seed, "body1 = \"lever\"\nbody2 = \"airframe\"", "bodyl = \"lever\"\nbody2 = \"airframe\""),
+      {"misspelt body1", replacedText(seed, "body1 = \"lever\"\nbody2 = \"airframe\"", "bodyl = \"lever\"\nbody2 = \"airframe\""),
        "bodyl = \"lever\"", "joint[0].bodyl", "unknown key (allowed here: axis, body1, body2, name, point, type)"},
       // names become file names and CSV columns
-      {"case name with a slash", replaced(seed, "name = \"light\"", "name = \"a/b\""), "name = \"a/b\"", "case[0].name",
+      {"case name with a slash", replacedText(seed, "name = \"light\"", "name = \"a/b\""), "name = \"a/b\"", "case[0].name",
        "must be 1 to 64 letters"},
-      {"case name leaving the output directory", replaced(seed, "name = \"light\"", "name = \"../escaped\""),
+      {"case name leaving the output directory", replacedText(seed, "name = \"light\"", "name = \"../escaped\""),
        "name = \"../escaped\"", "case[0].name", "must be 1 to 64 letters"},
-      {"empty case name", replaced(seed, "name = \"light\"", "name = \"\""), "name = \"\"", "case[0].name",
+      {"empty case name", replacedText(seed, "name = \"light\"", "name = \"\""), "name = \"\"", "case[0].name",
        "must be 1 to 64 letters"},
-      {"stop name with a comma", replaced(seed, "name = \"extension\"", "name = \"ext,ension\""), "name = \"ext,ension\"",
+      {"stop name with a comma", replacedText(seed, "name = \"extension\"", "name = \"ext,ension\""), "name = \"ext,ension\"",
        "stop[0].name", "must be 1 to 64 letters"},
       // an over-constrained mechanism names the joint that repeats the others
       {"redundant joint",
@@ -163,37 +135,13 @@ TEST_CASE("bad input names file, line and key, and simulate exits with 2 and wri
   };
   lgtest::TempDir dir("bad");
   lgtest::writeFile(dir / "garbled.csv", "stroke,area\n0.0,8e-5\n0.05,seven\n0.1,6e-5\n0.16,4e-5\n");
-  for (size_t i = 0; i < bad.size(); ++i) {
-    const BadScene& b = bad[i];
-    const std::string file = dir / ("bad" + std::to_string(i) + ".toml");
-    lgtest::writeFile(file, b.text);
-    const int line = lineOf(b.text, b.marker);
-    REQUIRE(line > 0);
-    INFO(b.what);
-    std::string msg;
-    try {
-      lg::loadScene(file);
-      FAIL("no InputError for: " << b.what);
-    } catch (const lg::InputError& e) {
-      msg = e.what();
-    }
-    INFO("message: " << msg);
-    CHECK(msg.find(file + ":" + std::to_string(line) + ":") != std::string::npos);
-    CHECK(msg.find("'" + b.key + "'") != std::string::npos);
-    CHECK(msg.find(b.rule) != std::string::npos);
-    // The program: exit status 2, the message on stderr, nothing written.
-    const std::string out = dir / ("out" + std::to_string(i));
-    const int rc = runSimulate(file, out, dir / "stderr.txt");
-    CHECK(rc == 2);
-    CHECK(!std::filesystem::exists(out));
-    CHECK(lgtest::readFile(dir / "stderr.txt").find(msg) != std::string::npos);
-  }
+  lgtest::checkBadInputs(bad, dir);  // the message; the program: exit status 2, the message on stderr, nothing written
 }
 
 TEST_CASE("simulate: a missing scene file or an unknown case is bad input too", "[scene][input]") {
   lgtest::TempDir dir("bad2");
   const std::string out = dir / "out";
-  CHECK(runSimulate(dir / "no_such_scene.toml", out, dir / "err.txt") == 2);
+  CHECK(lgtest::runSimulateOn(dir / "no_such_scene.toml", out, dir / "err.txt") == 2);
   CHECK(lgtest::readFile(dir / "err.txt").find("no_such_scene.toml") != std::string::npos);
   CHECK(!std::filesystem::exists(out));
   const std::string cmd = "'" + lgtest::binPath("simulate") + "' '" + lgtest::sourcePath("data/seed_gear.toml") +
