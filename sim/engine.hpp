@@ -359,6 +359,23 @@ template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w,
 // Returns the number of stops whose mode changed, or -1 on a solver failure.
 template <class S> int resolveFriction(const Model<S>& m, State<S>& s, Workspace<S>& w);
 
+template <class S> void setSlip(State<S>& s, Workspace<S>& w, int k, int sigma);
+constexpr double kLockRestSpeed = 1e-6;  // [m/s] a friction lock slower than this is at rest
+
+// Sets every slipping friction lock that is at rest to undecided (rows must be current); returns
+// whether any was.
+template <class S> bool releaseRestingSlips(const Model<S>& m, State<S>& s, Workspace<S>& w) {
+  bool any = false;
+  for (size_t f = 0; f < m.forces.size(); ++f) {
+    const int k = m.lockRow[f];
+    if (k < 0 || s.active[k] || s.slip[k] == 0) continue;
+    if (std::abs(value(rowVelocity(m, w, k))) > kLockRestSpeed) continue;
+    setSlip(s, w, k, 0);
+    any = true;
+  }
+  return any;
+}
+
 template <class S> int resolveContacts(const Model<S>& m, State<S>& s, Workspace<S>& w) {
   ScopedStage timer(w.timer, kEvents, m.settings.profile);
   w.slip = s.slip;
@@ -380,6 +397,7 @@ template <class S> int resolveContacts(const Model<S>& m, State<S>& s, Workspace
     }
   }
   if (!anyCandidate) {
+    if (releaseRestingSlips(m, s, w)) forces(m, w);
     int changed = 0;
     for (int k = 0; k < m.nRows; ++k)
       if (m.rowInfo[k].unilateral && s.active[k]) { s.active[k] = 0; ++changed; }
@@ -407,6 +425,12 @@ template <class S> int resolveContacts(const Model<S>& m, State<S>& s, Workspace
     EnergyReport<S> after = energy(m, s, w);
     s.impactLoss += before.kinetic - after.kinetic;
   }
+  // A friction lock that slips but is at rest now (an impact stopped its strut) has no direction any
+  // more: its friction is off while the stops are decided, so that a stop between the strut's bodies
+  // takes the load (the friction is then held), and resolveFriction decides it afresh if no stop does.
+  // Left slipping, its full friction could let the stop go (lambda = 0 within the contact band, where
+  // a free stop's event no longer watches it) although the strut then moves on into it.
+  if (releaseRestingSlips(m, s, w)) forces(m, w);
   buildList();
   for (size_t a = 0; a < w.list.size(); ++a) {
     const int k = w.list[a];
@@ -481,7 +505,7 @@ template <class S> int resolveFriction(const Model<S>& m, State<S>& s, Workspace
     }
     if (s.active[k] || s.slip[k]) continue;  // stuck or slipping: its events decide
     const double rate = value(rowVelocity(m, w, k));
-    if (std::abs(rate) > 1e-6) {  // [m/s] not at rest after all: it slips the way it moves
+    if (std::abs(rate) > kLockRestSpeed) {  // not at rest after all: it slips the way it moves
       setSlip(s, w, k, rate > 0 ? 1 : -1);
       ++changed;
       continue;
