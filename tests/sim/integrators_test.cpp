@@ -1,4 +1,4 @@
-// The Rosenbrock-W integrators of sim/integrators.hpp (RosenbrockTableau, stepRosenbrock) against the
+// The Rosenbrock-W integrators of sim/integration/ (RosenbrockTableau, stepRosenbrock) against the
 // closed-form damped oscillator: a 2 kg mass on a prismatic guide along x, held by a spring-damper.
 // With the error control switched off (rtol huge, max_step = step) they run at a fixed step, so the
 // observed order of the global error checks the tableaus and their transformed form: 2 for ROS2, 3

@@ -1,0 +1,116 @@
+// The state of a run that the step functions share (StepContext), its status (RunStatus), and the
+// pieces every method uses: failing with a reason, refreshing f and the event functions, stabilising
+// an accepted state, and the verdict on a trial step.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "sim/engine.hpp"
+#include "sim/integration/dense_output.hpp"
+#include "sim/integration/event_functions.hpp"
+
+namespace lg {
+
+struct RunStatus {
+  bool ok = true;
+  std::string message;
+  long steps = 0, rejected = 0, events = 0, projections = 0;
+  double maxPositionViolation = 0;  // [m] largest |C| seen at the end of a step (before projection)
+  double maxVelocityViolation = 0;  // [m/s]
+};
+
+// What every step function works on: the model, the state it advances, the workspace, the dense output
+// of the last accepted step and the step-size controller's memory.
+template <class S> struct StepContext {
+  const Model<S>& m;
+  State<S>& s;
+  Workspace<S>& w;
+  DenseOutput<S> dense;
+  double errOld = 1e-4;  // error of the last accepted step (PI control)
+};
+
+template <class S> RunStatus& fail(StepContext<S>& c, RunStatus& st, const std::string& why) {
+  st.ok = false;
+  st.message = why + " at t = " + std::to_string(value(c.s.t)) + " s";
+  return st;
+}
+
+template <class S> bool allFinite(const VecX<S>& v) {
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    if (!isFinite(v[i])) return false;
+  return true;
+}
+
+template <class S> void forceOutputs(StepContext<S>& c) {
+  const Kins<S> K = c.w.kins();
+  for (size_t f = 0; f < c.m.forces.size(); ++f)
+    std::visit([&](const auto& e) { e.outputs(K, c.w.outputs.data() + c.m.outputOffset[f]); }, c.m.forces[f].type);
+}
+
+// f at the current state into w.ydot (always the derivative at s.y), event functions into g0.
+template <class S> bool refresh(StepContext<S>& c) {
+  const bool ok = evaluate(c.m, c.s.y, c.s.active, c.s.lambda, c.w, c.w.ydot);
+  eventFunctions(c.m, c.s, c.s.lambda, c.w, c.w.g0);
+  freeStopRates(c.m, c.s, c.w, c.w.gRate0);
+  forceOutputs(c);
+  return ok && allFinite(c.w.ydot);
+}
+
+template <class S> bool failNonFinite(StepContext<S>& c, RunStatus& st) {
+  fail(c, st, "non-finite state (a force or multiplier overflowed)");
+  return false;
+}
+
+// The stabilisation of an accepted state (the rows in the workspace must be current at s.y): records
+// the violation, then projects onto the constraint manifold if it exceeds the tolerance, or else only
+// renormalises the quaternions. Returns false if the projection fails; 'projected' says if it ran.
+template <class S> bool stabilise(StepContext<S>& c, RunStatus& st, bool& projected) {
+  const Settings& cfg = c.m.settings;
+  double pos, vel;
+  violation(c.m, c.s.active, c.w, pos, vel);
+  st.maxPositionViolation = std::max(st.maxPositionViolation, pos);
+  st.maxVelocityViolation = std::max(st.maxVelocityViolation, vel);
+  projected = cfg.stabilization == Stabilization::Projection &&
+              (pos > cfg.projectionTolerance || vel > cfg.projectionTolerance);
+  if (!projected) {
+    normalizeQuaternions(c.m, c.s.y);
+    return true;
+  }
+  ++st.projections;
+  return project(c.m, c.s, c.w, /*factorNearby=*/true);  // the step's last evaluation factored A nearby
+}
+
+// After an accepted step or event whose end was evaluated: stabilise if needed, then refresh f and g.
+template <class S> bool afterStep(StepContext<S>& c, RunStatus& st) {
+  bool projected = false;
+  if (!stabilise(c, st, projected)) return false;
+  return projected ? refresh(c) : true;
+}
+
+// The verdict on a trial step of an adaptive method with error norm err (1 = the tolerance): a
+// non-finite trial is retried at a quarter of the step, one over the tolerance at the size its error
+// suggests (0.9 err^-expo, at least a fifth); a step that underflows fails the run.
+enum class Trial { Accept, Retry, Fail };
+template <class S> Trial judge(StepContext<S>& c, bool ok, double err, double expo, double& h, RunStatus& st) {
+  if (!ok || !allFinite(c.w.y1) || !std::isfinite(err)) {
+    if (h < 1e-12) {
+      failNonFinite(c, st);
+      return Trial::Fail;
+    }
+    h *= 0.25;
+    ++st.rejected;
+    return Trial::Retry;
+  }
+  if (err <= 1.0) return Trial::Accept;
+  h *= std::max(0.2, 0.9 * std::pow(err, -expo));
+  ++st.rejected;
+  if (h < 1e-14) {
+    fail(c, st, "step size underflow");
+    return Trial::Fail;
+  }
+  return Trial::Retry;
+}
+
+}  // namespace lg
