@@ -53,7 +53,7 @@ std::vector<Column> historyColumns(const Scene& scene) {
   for (int f : scene.roles.struts) {
     const std::string sfx = manyStruts ? "_" + m.forces[f].name : "";
     for (const std::string& n : m.forces[f].outputNames())
-      c.push_back({n + sfx, n == "s" ? "m" : n == "s_dot" ? "m/s" : n == "p_1" ? "Pa" : "N"});
+      c.push_back({n + sfx, n == "s" ? "m" : n == "s_dot" ? "m/s" : n == "p_1" || n == "p_2" ? "Pa" : "N"});
   }
   for (int ci : scene.roles.stops) c.push_back({"F_" + m.constraints[ci].name, "N"});
   c.push_back({"violation", "m"});

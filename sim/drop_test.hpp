@@ -89,8 +89,8 @@ struct Column {
   std::string name, unit;
 };
 // The columns of a scene's time histories after t [s]: P_y, h, each tyre's delta (and P_t with several
-// tyres, P_x with a longitudinal force), each strut's internals (s, s_dot, p_1, P_a, P_gas, P_friction, P_orifice1, P_orifice2 when
-// declared; suffixed "_<strut>" with several struts), each stop's force F_<stop>, and violation.
+// tyres, P_x with a longitudinal force), each strut's internals (s, s_dot, p_1, P_a, P_gas, P_friction, P_orifice1, P_orifice2 and
+// p_2 when declared; suffixed "_<strut>" with several struts), each stop's force F_<stop>, and violation.
 std::vector<Column> historyColumns(const Scene& scene);
 
 // One row of the time histories: t [s] and the values of the columns.

@@ -93,6 +93,13 @@ class Checker {
     if (!(s.pAtm >= 0 && s.pAtm < s.p01))
       return problem("force", f, "p_atm", "value " + num(s.pAtm) + " must be >= 0 and < p01 = " + num(s.p01) +
                                              " (the gas must push the rod out)");
+    if (s.twoStage) {  // a design may move the second chamber's values
+      if (!(s.p02 > s.p01))
+        return problem("force", f, "p02", "value " + num(s.p02) + " must be > p01 = " + num(s.p01) +
+                                              " (the second stage engages when p_1 reaches it)");
+      if (auto p = positive(f, "Omega02", s.Omega02)) return p;
+      if (!(s.n2 > 1)) return problem("force", f, "n2", "polytropic exponent " + num(s.n2) + " must be > 1");
+    }
     if (s.ownF1e && !s.f1eTable)
       if (auto p = positive(f, "f1_extension", s.f1e)) return p;
     if (s.ownXi1e)
@@ -115,7 +122,8 @@ class Checker {
     // The stroke it can reach: its bottoming stop's S_max, else the stroke that would exhaust the gas
     // (or L0). The gas must outlast the bottoming stroke, and a table cover the reach.
     const double F = M_PI * s.D * s.D / 4;
-    double reach = std::min(s.L0, s.Omega0 / F);
+    const double gas = s.twoStage ? s.Omega0 + s.Omega02 : s.Omega0;  // the gas volume the rod can take
+    double reach = std::min(s.L0, gas / F);
     int k = -1;
     for (size_t j = 0; j < sc_.roles.stops.size(); ++j) {
       const auto& st = std::get<DistanceStop<double>>(m_.constraints[sc_.roles.stops[j]].type);
@@ -129,8 +137,9 @@ class Checker {
       if (!(S > 0))
         return problem("force", f, "L0", "the bottoming stop '" + m_.constraints[ci].name + "' (min_distance " + num(st.L) +
                                              " m) is not shorter than the extended strut, L0 = " + num(s.L0) + " m");
-      if (!(s.Omega0 > F * S))
-        return problem("force", f, "Omega0", "gas volume " + num(s.Omega0) + " m^3 must be larger than the volume swept at the "
+      if (!(gas > F * S))
+        return problem("force", f, "Omega0", std::string(s.twoStage ? "gas volume Omega0 + Omega02 = " : "gas volume ") + num(gas) +
+                                             " m^3 must be larger than the volume swept at the "
                                              "bottoming stroke, F S_max = " + num(F * S) + " m^3 (F = pi D^2/4 = " + num(F) +
                                              " m^2, S_max = " + num(S) + " m at stop '" + m_.constraints[ci].name + "')");
       reach = std::min(reach, S);

@@ -4,6 +4,7 @@
 //   s     = L0 - |B - C|              stroke, positive in compression      [m]
 //   sdot  = -e . (u_B - u_C),  e = (B - C)/|B - C|                          [m/s]
 //   p_1   = p_01 / (1 - s F / Omega_0)^n                                    [Pa]
+//           (or the two-stage gas spring's common pressure: gas_spring.hpp, when the scene declares p02)
 //   P_a   = (p_1 - p_atm) F                          gas (p_atm = 0 as in the article)
 //         + P_f                                      Coulomb friction, bounded by the gas force:
 //                                                     F_max = mu (p_1 - p_atm) F (the seals carry p_1 - p_atm)
@@ -26,7 +27,12 @@
 //   F = pi D^2/4,  F_2 = pi (D_2^2 - D^2)/4
 // P_a > 0 pushes B away from C: +P_a e on the rod at B, -P_a e on the cylinder at C.
 //
+// Two-stage gas spring (only if the scene declares p02, Omega02): a second chamber behind a floating
+// piston takes over once p_1 reaches p_02, at the stroke s* (gas_spring.hpp, its equations); one event
+// function, s - s*, stops the integrator on the kink in the force's slope there. Output p_2 [Pa].
+//
 // Energy: stored (gas)  p_01 Omega_0/(n-1) ((1 - s F/Omega_0)^(1-n) - 1) - p_atm F s
+//                       (two stages: sum_i (p_i V_i - p_i0 Omega_i0)/(n_i - 1) - p_atm F s once engaged)
 //         dissipated    integral of (friction + orifice forces) * sdot dt  (>= 0)
 #pragma once
 
@@ -36,6 +42,7 @@
 
 #include "sim/core/body.hpp"
 #include "sim/forces/friction_lock.hpp"
+#include "sim/forces/gas_spring.hpp"
 #include "sim/forces/table1d.hpp"
 
 namespace lg {
@@ -43,7 +50,6 @@ namespace lg {
 template <class S> struct ShockAbsorber {
   static constexpr int kDissipation = 1;
   static constexpr int kDamping = 1;
-  static constexpr int kEvents = 0;
   int bi = kGround;  // rod
   int bj = kGround;  // cylinder
   Vec3<S> rho_i;     // [m] B in the rod frame
@@ -73,12 +79,20 @@ template <class S> struct ShockAbsorber {
   S f2e = S(0), xi2e = S(0);               // [m^2], [-] rebound orifice in extension
   std::shared_ptr<const Table1D> f1eTable;  // [m -> m^2] f_1e(s), or null
   std::vector<S> f1eValues;                 // [m^2] its areas
+  // Two-stage gas spring (gas_spring.hpp): the scene declares p02 and Omega02 (n2 defaults to n).
+  bool twoStage = false;
+  S p02 = S(0);       // [Pa] second chamber's precharge (> p01)
+  S Omega02 = S(0);   // [m^3] second chamber's volume, the floating piston on its stop
+  S n2 = S(0);        // [-] second chamber's polytropic exponent
+
+  int eventCount() const { return twoStage ? 1 : 0; }  // s - s*: what a single stage does not declare costs nothing
+  GasSpring<S> gasSpring() const { return {p01, Omega0, n, twoStage, p02, Omega02, n2}; }
 
   bool declaresReboundOrifice() const { return reboundOrifice; }
 
   struct Eval {
     Vec3<S> a_i, a_j, e;
-    S s, sdot, p1, gas, friction, orifice1, orifice2;
+    S s, sdot, p1, p2, gas, friction, orifice1, orifice2;
     int sigma = 0;  // the slip direction of a Coulomb segment (0: stuck, held, or regularised)
     S force() const { return gas + friction + orifice1 + orifice2; }
   };
@@ -106,7 +120,9 @@ template <class S> struct ShockAbsorber {
     r.s = L0 - L;
     r.sdot = -r.e.dot(K[bi].pointVelocity(r.a_i) - K[bj].pointVelocity(r.a_j));
     const S F = area();
-    r.p1 = p01 / pow(S(1) - r.s * F / Omega0, n);
+    const typename GasSpring<S>::Pressures p = gasSpring().pressures(r.s, F);
+    r.p1 = p.p1;
+    r.p2 = p.p2;
     r.gas = (r.p1 - pAtm) * F;
     r.sigma = coulomb ? K.slipOf(lockRow) : 0;
     if (coulomb) r.friction = S(r.sigma) * mu * r.gas;  // 0 when stuck (the lock reacts) or held
@@ -139,7 +155,7 @@ template <class S> struct ShockAbsorber {
   S frictionBound(const Kins<S>& K) const {
     const Vec3<S> d = (K[bi].r + K[bi].R * rho_i) - (K[bj].r + K[bj].R * rho_j);
     const S s = L0 - d.norm();
-    return mu * (p01 / pow(S(1) - s * area() / Omega0, n) - pAtm) * area();
+    return mu * (gasSpring().pressure(s, area()) - pAtm) * area();
   }
   S lockForce(const Kins<S>& K) const { return coulomb ? -K.lambdaOf(lockRow) : S(0); }
   void apply(const Kins<S>& K, const Wrenches<S>& W, S* dissipation) const {
@@ -152,9 +168,13 @@ template <class S> struct ShockAbsorber {
   S stored(const Kins<S>& K) const {
     const Eval r = eval(K);
     const S F = area();
-    return p01 * Omega0 / (n - S(1)) * (pow(S(1) - r.s * F / Omega0, S(1) - n) - S(1)) - pAtm * F * r.s;
+    return gasSpring().stored(r.s, F) - pAtm * F * r.s;
   }
-  void events(const Kins<S>&, S*) const {}
+  void events(const Kins<S>& K, S* g) const {
+    if (!twoStage) return;
+    const Vec3<S> d = (K[bi].r + K[bi].R * rho_i) - (K[bj].r + K[bj].R * rho_j);
+    g[0] = (L0 - d.norm()) - gasSpring().engagementStroke(area());
+  }
   // sdot = G V along the strut axis (DampingTerm::setAxial); c = dP_a/dsdot =
   // mu (p_1 - p_atm) F eps^2 / (sdot^2 + eps^2)^(3/2) (regularised friction only) + 2 (k_1 + k_2) |sdot|
   // (on a Coulomb slip segment 2 (k_1 + k_2) sigma sdot, the derivative of its continued law).
@@ -178,6 +198,7 @@ template <class S> struct ShockAbsorber {
   std::vector<std::string> outputNames() const {
     std::vector<std::string> names{"s", "s_dot", "p_1", "P_a", "P_gas", "P_friction", "P_orifice1"};
     if (reboundOrifice) names.push_back("P_orifice2");
+    if (twoStage) names.push_back("p_2");
     return names;
   }
   void outputs(const Kins<S>& K, S* out) const {
@@ -191,6 +212,7 @@ template <class S> struct ShockAbsorber {
     out[5] = r.friction + lock;
     out[6] = r.orifice1;
     if (reboundOrifice) out[7] = r.orifice2;
+    if (twoStage) out[reboundOrifice ? 8 : 7] = r.p2;
   }
   // The scalar a scene key names, as a design parameter (nullptr: none; friction_velocity and the table
   // are not design parameters).
@@ -218,13 +240,17 @@ template <class S> struct ShockAbsorber {
     if (key == "xi1_extension") return ownXi1e ? &xi1e : nullptr;
     if (key == "f2_extension") return ownF2e ? &f2e : nullptr;
     if (key == "xi2_extension") return ownXi2e ? &xi2e : nullptr;
+    if (key == "p02") return twoStage ? &p02 : nullptr;
+    if (key == "Omega02") return twoStage ? &Omega02 : nullptr;
+    if (key == "n2") return twoStage ? &n2 : nullptr;
     return nullptr;
   }
   template <class T> ShockAbsorber<T> cast() const {
     return {bi, bj, castVec<T>(rho_i), castVec<T>(rho_j), T(L0), T(D), T(D2), T(p01), T(Omega0), T(n), T(rho),
             T(f1), T(f2), T(xi1), T(xi2), T(mu), T(pAtm), frictionVelocity, f1Table,
             std::vector<T>(f1Values.begin(), f1Values.end()), reboundOrifice, coulomb, lockRow, checkValve, ownF1e, ownXi1e, ownF2e, ownXi2e, T(f1e), T(xi1e),
-            T(f2e), T(xi2e), f1eTable, std::vector<T>(f1eValues.begin(), f1eValues.end())};
+            T(f2e), T(xi2e), f1eTable, std::vector<T>(f1eValues.begin(), f1eValues.end()), twoStage, T(p02), T(Omega02),
+            T(n2)};
   }
 };
 

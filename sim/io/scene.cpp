@@ -387,7 +387,8 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
     } else if (type == "shock_absorber") {
       r.allowOnly({"name", "type", "rod", "cylinder", "rod_point", "cylinder_point", "L0", "D", "D2", "p01", "Omega0",
                    "n", "rho", "f1", "f1_table", "f2", "xi1", "xi2", "mu", "p_atm", "friction", "friction_velocity",
-                   "f1_extension", "f1_extension_table", "xi1_extension", "f2_extension", "xi2_extension"});
+                   "f1_extension", "f1_extension_table", "xi1_extension", "f2_extension", "xi2_extension", "p02",
+                   "Omega02", "n2"});
       ShockAbsorber<double> s;
       s.bi = bodyRef(r, "rod");
       s.bj = bodyRef(r, "cylinder");
@@ -425,6 +426,17 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       s.mu = r.nonNegative("mu", 0.0);
       s.pAtm = r.nonNegative("p_atm", 0.0);
       if (!(s.pAtm < s.p01)) r.fail("p_atm", "value " + fmt(s.pAtm) + " must be < p01 = " + fmt(s.p01) + " (the gas must push the rod out)");
+      // Two-stage gas spring: a second chamber behind a floating piston (p02 and Omega02; n2 defaults to n).
+      s.twoStage = r.has("p02") || r.has("Omega02") || r.has("n2");
+      if (s.twoStage) {
+        if (!r.has("p02")) r.fail(r.has("Omega02") ? "Omega02" : "n2", "a second gas chamber needs both p02 and Omega02");
+        if (!r.has("Omega02")) r.fail("p02", "a second gas chamber needs both p02 and Omega02");
+        s.p02 = r.positive("p02");
+        if (!(s.p02 > s.p01)) r.fail("p02", "value " + fmt(s.p02) + " must be > p01 = " + fmt(s.p01) + " (the second stage engages when p_1 reaches it)");
+        s.Omega02 = r.positive("Omega02");
+        s.n2 = r.positive("n2", s.n);
+        if (!(s.n2 > 1)) r.fail("n2", "polytropic exponent " + fmt(s.n2) + " must be > 1");
+      }
       const std::string law = r.string("friction", "regularised");
       if (law != "coulomb" && law != "regularised")
         r.fail("friction", "value '" + law + "' must be \"coulomb\" (exact stick/slip) or \"regularised\"");
