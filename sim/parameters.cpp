@@ -61,8 +61,11 @@ std::string unitOfKey(const std::string& key) {
       {"L0", "m"}, {"D", "m"}, {"D2", "m"}, {"p01", "Pa"}, {"Omega0", "m^3"}, {"n", "-"}, {"rho", "kg/m^3"},
       {"f1", "m^2"}, {"f1_table", "m^2"}, {"f2", "m^2"}, {"xi1", "-"}, {"xi2", "-"}, {"mu", "-"},
       {"friction_velocity", "m/s"}, {"p_atm", "Pa"}, {"p02", "Pa"}, {"Omega02", "m^3"}, {"n2", "-"},
+      {"f1_extension", "m^2"}, {"f1_extension_table", "m^2"}, {"xi1_extension", "-"}, {"f2_extension", "m^2"},
+      {"xi2_extension", "-"},
       // tyre
-      {"radius", "m"}, {"K", "N/m"}, {"delta_max", "m"}, {"alpha", "-"}, {"ground_height", "m"},
+      {"radius", "m"}, {"K", "N/m"}, {"delta_max", "m"}, {"alpha", "-"}, {"ground_height", "m"}, {"exponent", "-"},
+      {"damping_exponent", "-"}, {"mu_x", "-"}, {"slip_ratio", "-"},
       // spring-damper
       {"k", "N/m"}, {"c", "N s/m"},
   };

@@ -154,8 +154,8 @@ class Checker {
     if (s.f1eTable && s.f1eTable->xMax() < reach - 1e-12)
       return problem("force", f, "f1_extension_table", "table ends at stroke " + num(s.f1eTable->xMax()) +
                                                            " m but the strut can reach " + num(reach) + " m");
-    for (size_t k = 0; k < s.f1eValues.size(); ++k)
-      if (!(s.f1eValues[k] > 0)) return problem("force", f, "f1_extension_table", "area " + num(s.f1eValues[k]) + " must be > 0");
+    for (size_t k = 0; k < s.f1eValues.size(); ++k)  // a design may move the extension table's samples
+      if (auto p = positive(f, "f1_extension_table[" + std::to_string(k) + "]", s.f1eValues[k])) return p;
     return std::nullopt;
   }
 

@@ -214,8 +214,18 @@ template <class S> struct ShockAbsorber {
     if (reboundOrifice) out[7] = r.orifice2;
     if (twoStage) out[reboundOrifice ? 8 : 7] = r.p2;
   }
-  // The scalar a scene key names, as a design parameter (nullptr: none; friction_velocity and the table
-  // are not design parameters).
+  // "<table>[k]": sample k (from 0) of a table's areas, or nullptr.
+  static S* tableSample(const std::string& key, const std::string& table, std::vector<S>& values) {
+    if (key.size() < table.size() + 3 || key.compare(0, table.size() + 1, table + "[") != 0 || key.back() != ']')
+      return nullptr;
+    const std::string digits = key.substr(table.size() + 1, key.size() - table.size() - 2);
+    if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos) return nullptr;
+    const size_t k = std::stoul(digits);
+    return k < values.size() ? &values[k] : nullptr;
+  }
+  // The scalar a scene key names, as a design parameter (nullptr: none; friction_velocity and the tables'
+  // stroke grids are not design parameters; their areas are, sample by sample: "f1_table[k]",
+  // "f1_extension_table[k]").
   S* parameter(const std::string& key) {
     if (key == "L0") return &L0;
     if (key == "D") return &D;
@@ -225,12 +235,10 @@ template <class S> struct ShockAbsorber {
     if (key == "n") return &n;
     if (key == "rho") return &rho;
     if (key == "f1") return f1Table ? nullptr : &f1;
-    if (f1Table && key.rfind("f1_table[", 0) == 0 && key.back() == ']') {  // f1_table[k]: sample k, from 0
-      const std::string digits = key.substr(9, key.size() - 10);
-      if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos) return nullptr;
-      const size_t k = std::stoul(digits);
-      return k < f1Values.size() ? &f1Values[k] : nullptr;
-    }
+    if (f1Table)
+      if (S* v = tableSample(key, "f1_table", f1Values)) return v;
+    if (f1eTable)
+      if (S* v = tableSample(key, "f1_extension_table", f1eValues)) return v;
     if (key == "f2") return reboundOrifice ? &f2 : nullptr;
     if (key == "xi1") return &xi1;
     if (key == "xi2") return &xi2;

@@ -745,10 +745,13 @@ void inlineTables(toml::table& doc, const Scene& scene, const std::vector<std::s
     const int f = scene.model.forceIndex(element);
     if (!t || f < 0 || !t->get(base) || !t->get(base)->is_string()) continue;
     const auto* sa = std::get_if<ShockAbsorber<double>>(&scene.model.forces[static_cast<size_t>(f)].type);
-    if (!sa || !sa->f1Table || base != "f1_table") continue;
+    if (!sa) continue;
+    const bool main = base == "f1_table", extension = base == "f1_extension_table";
+    const std::shared_ptr<const Table1D>& table = main ? sa->f1Table : sa->f1eTable;
+    if (!(main || extension) || !table) continue;
     toml::array stroke, area;
-    for (double x : sa->f1Table->xs()) stroke.push_back(x);
-    for (double y : sa->f1Values) area.push_back(y);
+    for (double x : table->xs()) stroke.push_back(x);
+    for (double y : main ? sa->f1Values : sa->f1eValues) area.push_back(y);
     toml::table inl{{"stroke", std::move(stroke)}, {"area", std::move(area)}};
     inl.is_inline(true);
     t->insert_or_assign(base, std::move(inl));

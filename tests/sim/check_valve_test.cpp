@@ -143,6 +143,47 @@ TEST_CASE("check valve in a drop: the compression unchanged, the rebound damped 
   CHECK(h.energy_balance_error < 1e-6);
 }
 
+// The extension table's samples as design parameters ("strut.f1_extension_table[k]"), like the
+// metering pin's: paths, values and units; a sample set as data runs the bits of the scene edited by
+// --set (which writes a CSV table inline); the sample acts on the rebound only; a design with a sample
+// <= 0 is rejected by the scene's rule, named by its key.
+TEST_CASE("check valve: the extension table's samples are design parameters", "[shock_absorber][check_valve][parameters]") {
+  lgtest::TempDir dir("check_valve_table");
+  lgtest::writeFile((dir.path / "extension.csv").string(), "stroke,area\n0.0,6.0e-5\n0.04,5.0e-5\n0.08,4.5e-5\n0.12,4.0e-5\n0.16,3.5e-5\n");
+  toml::table doc = lgtest::shippedDoc("data/seed_gear.toml");
+  lgtest::element(doc, "force", "strut").insert_or_assign("f1_extension_table", (dir.path / "extension.csv").string());
+  const lg::Scene valve = lgtest::build(doc);
+  const auto& sa = std::get<lg::ShockAbsorber<double>>(valve.model.forces[valve.roles.struts.at(0)].type);
+  REQUIRE(sa.f1eTable);
+  REQUIRE(sa.f1eValues.size() == 5);
+  const lg::Parameter p = lg::resolveParameter(valve, "strut.f1_extension_table[2]");
+  CHECK(lg::parameterValue(valve, p) == 4.5e-5);
+  CHECK(lg::unitOfKey(p.key) == "m^2");
+  for (const char* bad : {"strut.f1_extension_table[5]", "strut.f1_extension_table[]", "strut.f1_extension_table"}) {
+    INFO(bad);
+    CHECK_THROWS_AS(lg::resolveParameter(valve, bad), lg::InputError);
+  }
+  const lg::Scene seed = lg::loadScene(lgtest::sourcePath("data/seed_gear.toml"));
+  CHECK_THROWS_AS(lg::resolveParameter(seed, "strut.f1_extension_table[0]"), lg::InputError);
+  // As data and as text (--set inlines the CSV): the same bits; the compression untouched.
+  lg::Scene asData = valve;
+  REQUIRE_FALSE(lg::applyParameters(asData, {lg::resolveParameter(valve, "strut.f1_extension_table[3]")}, {2.0e-5}));
+  const lg::Scene asText = lg::applyOverrides(valve, {{"strut.f1_extension_table[3]", 2.0e-5}});
+  const lg::DropCase& c = lgtest::findCase(valve, "limit");
+  const lg::CaseMetrics a = lg::runCase(asData, c).metrics, b = lg::runCase(asText, c).metrics, base = lg::runCase(valve, c).metrics;
+  REQUIRE(a.ok);
+  CHECK(a.rebound_velocity_mps == b.rebound_velocity_mps);
+  CHECK(a.energy_dissipated_J == b.energy_dissipated_J);
+  CHECK(a.peak_load_N == base.peak_load_N);  // the compression's law
+  CHECK(a.rebound_velocity_mps < base.rebound_velocity_mps);  // a narrower orifice in extension
+  // A sample <= 0 is the scene's rule, named by its key.
+  lg::Scene bad = valve;
+  const auto why = lg::applyParameters(bad, {lg::resolveParameter(valve, "strut.f1_extension_table[1]")}, {-1e-6});
+  REQUIRE(why);
+  CHECK(why->find("f1_extension_table[1]") != std::string::npos);
+  CHECK(why->find("must be > 0") != std::string::npos);
+}
+
 TEST_CASE("check valve: bad input names file, line, key and rule, exit status 2", "[shock_absorber][check_valve][input]") {
   lgtest::TempDir dir("check_valve_bad");
   const std::string seed = lgtest::readFile(lgtest::sourcePath("data/seed_gear.toml"));

@@ -156,6 +156,20 @@ TEST_CASE("gradient: the metering pin's samples against central differences", "[
               tally.worst, tally.worstPeakTime);
 }
 
+// The samples of a check valve's extension table f_1e(s) (seed gear, inline table over the stroke):
+// they act in the rebound only, so the rebound velocity and the energies carry their derivatives.
+TEST_CASE("gradient: the extension table's samples against central differences", "[gradient][check_valve]") {
+  toml::table doc = lgtest::shippedDoc("data/seed_gear.toml");
+  toml::table table{{"stroke", toml::array{0.0, 0.04, 0.08, 0.12, 0.16}}, {"area", toml::array{6.0e-5, 5.0e-5, 4.5e-5, 4.0e-5, 3.5e-5}}};
+  lgtest::element(doc, "force", "strut").insert_or_assign("f1_extension_table", table);
+  const lg::Scene sc = tightScene(doc);
+  Tally tally;
+  compare("extension table limit", sc, lgtest::findCase(sc, "limit"),
+          {"strut.f1_extension_table[1]", "strut.f1_extension_table[2]", "strut.f1_extension_table[3]"}, tally);
+  CHECK(tally.compared > 20);
+  std::printf("gradient: %d derivatives in the extension table's samples within %.1e\n", tally.compared, tally.worst);
+}
+
 namespace {
 // The interior local maxima of P_y(t) of a recorded run, in time order.
 std::vector<double> loadHumps(const lg::Scene& sc, const lg::DropCase& c) {
