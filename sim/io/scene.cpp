@@ -536,8 +536,33 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       s.c = r.nonNegative("c", 0.0);
       s.L0 = r.nonNegative("L0", (p2 - p1).norm());
       f.type = s;
+    } else if (type == "bushing") {
+      static const char* kKeys[12] = {"k_x", "k_y", "k_z", "c_x", "c_y", "c_z", "k_rx", "k_ry", "k_rz", "c_rx", "c_ry", "c_rz"};
+      r.allowOnly({"name", "type", "body1", "body2", "point", "point2", "x_axis", "z_axis", "k_x", "k_y", "k_z", "c_x", "c_y",
+                   "c_z", "k_rx", "k_ry", "k_rz", "c_rx", "c_ry", "c_rz"});
+      Bushing<double> s;
+      s.bi = bodyRef(r, "body1");
+      s.bj = bodyRef(r, "body2");
+      if (s.bi == s.bj) r.fail("body2", "a bushing needs two different bodies");
+      const Vec3<double> p1 = r.vec3("point"), p2 = r.vec3("point2", p1);
+      const Vec3<double> ex = r.unitVec3("x_axis", Vec3<double>(1, 0, 0));
+      const Vec3<double> ez = r.unitVec3("z_axis", Vec3<double>(0, 0, 1));
+      if (std::abs(ex.dot(ez)) > 1e-6) r.fail("z_axis", "must be perpendicular to x_axis");
+      const Mat3<double> Q = rotation<double>(quaternionFromAxes(ex, ez));  // the bushing's axes in the scene
+      s.rho_i = toBody(s.bi, p1);
+      s.rho_j = toBody(s.bj, p2);
+      s.A_i = s.bi < 0 ? Q : Mat3<double>(poses[s.bi].R.transpose() * Q);
+      s.A_j = s.bj < 0 ? Q : Mat3<double>(poses[s.bj].R.transpose() * Q);
+      Vec3<double>* comp[4] = {&s.kt, &s.ct, &s.kr, &s.cr};
+      bool any = false;
+      for (int k = 0; k < 12; ++k) {
+        (*comp[k / 3])[k % 3] = r.nonNegative(kKeys[k], 0.0);
+        any = any || (*comp[k / 3])[k % 3] > 0;
+      }
+      if (!any) r.fail("k_x", "a bushing needs at least one stiffness or damping > 0 (k_x .. k_rz, c_x .. c_rz)");
+      f.type = s;
     } else {
-      r.fail("type", "value '" + type + "' must be one of gravity, lift, constant, shock_absorber, tyre, spring_damper");
+      r.fail("type", "value '" + type + "' must be one of gravity, lift, constant, shock_absorber, tyre, spring_damper, bushing");
     }
     m.forces.push_back(f);
   }
