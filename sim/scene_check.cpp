@@ -41,6 +41,8 @@ class Checker {
       else if (const auto* t = std::get_if<Tyre<double>>(&m_.forces[f].type)) p = tyre(static_cast<int>(f), *t);
       else if (const auto* d = std::get_if<SpringDamper<double>>(&m_.forces[f].type)) p = springDamper(static_cast<int>(f), *d);
       else if (const auto* b = std::get_if<Bushing<double>>(&m_.forces[f].type)) p = bushing(static_cast<int>(f), *b);
+      else if (const auto* bf = std::get_if<BearingFriction<double>>(&m_.forces[f].type); bf && !(bf->mu >= 0))
+        p = problem("force", static_cast<int>(f), "mu", "value " + num(bf->mu) + " must be >= 0");
       if (p) return p;
     }
     for (size_t c = 0; c < sc_.cases.size(); ++c) {

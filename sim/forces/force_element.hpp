@@ -10,6 +10,7 @@
 #include <variant>
 #include <vector>
 
+#include "sim/forces/bearing_friction.hpp"
 #include "sim/forces/bushing.hpp"
 #include "sim/forces/constant_force.hpp"
 #include "sim/forces/gravity.hpp"
@@ -21,7 +22,7 @@ namespace lg {
 
 template <class S>
 using ForceType = std::variant<Gravity<S>, ConstantForce<S>, ShockAbsorber<S>, Tyre<S>, SpringDamper<S>,
-                               Bushing<S>>;
+                               Bushing<S>, BearingFriction<S>>;
 
 template <class S> struct ForceElement {
   std::string name;
