@@ -124,6 +124,27 @@ TEST_CASE("bearing friction: the lever case by hand", "[bearing_friction]") {
     }
 }
 
+// The same reactions and friction with the Gauss-Seidel multipliers (the iteration's other solve).
+TEST_CASE("bearing friction: the lever case with Gauss-Seidel multipliers", "[bearing_friction]") {
+  lg::Scene sc = lgtest::inlineScene(kLever);
+  sc.model.settings.solver = lg::MultiplierSolver::GaussSeidel;
+  const lg::Model<double>& m = sc.model;
+  const auto& bf = std::get<lg::BearingFriction<double>>(m.forces[m.forceIndex("bearings")].type);
+  lg::State<double> st = sc.initial;
+  lgtest::setBody(m, st, 0, Vec3<double>(0, 0.1, 0), lg::Vec4<double>(1, 0, 0, 0), Vec3<double>(0, -1.0, 0),
+                  Vec3<double>::Zero());
+  lg::Workspace<double> w(m);
+  lg::VecX<double> ydot = lg::VecX<double>::Zero(m.ny());
+  REQUIRE(lg::evaluate(m, st.y, st.active, st.lambda, w, ydot));
+  double out[4];
+  bf.outputs(w.kins(), out);
+  const double F = 0.2 * 1300.0 * -1.0 / std::sqrt(1.0 + 1e-6);
+  CHECK(out[0] == Approx(400.0).epsilon(1e-8));  // the Gauss-Seidel tolerance (1e-9 of the right-hand side)
+  CHECK(out[1] == Approx(900.0).epsilon(1e-8));
+  CHECK(out[2] == Approx(F).epsilon(1e-8));
+  CHECK(ydot[7 + 1] == Approx(-kG - F / 10.0).epsilon(1e-8));
+}
+
 // The rod thrown down at 2 m/s slides to rest (the friction, up to 300 N, exceeds its weight) and creeps
 // at the regularised rate: kinetic + gravity's potential + the friction's dissipated work stay constant,
 // dopri5 at rtol 1e-10: measured 3.1e-12 of the initial kinetic energy, asserted 1e-11. ros34pw2 (the
