@@ -124,6 +124,47 @@ TEST_CASE("bearing friction: the lever case by hand", "[bearing_friction]") {
     }
 }
 
+// The coupling by hand: the rod's centre of mass d = 0.1 m off the joint's axis, so that the friction (on
+// the axis) turns the rod and changes the bearing reactions. With z measured from the centre of mass (z_u =
+// 0.8, z_l = 0.4 m, Dz = z_u - z_l), the lateral balance N_u + N_l + P = 0 and the moment balance
+// d F - z_u N_u - z_l N_l = 0 give N_l = -(d F + z_u P)/Dz, and with N_u > 0 > N_l the friction
+//   F = mu s (|N_u| + |N_l|) = mu s P (2 z_u - Dz)/Dz / (1 - 2 mu s d / Dz),   s = sgn_eps(sdot):
+// at sdot = -1 m/s F = -272.7 N against -300 N uncoupled. The fixed-point iteration (gain 2 mu d / Dz = 0.1)
+// reaches it to round-off (measured 1.4e-14 relative, asserted 1e-12). With mu = 3 (gain 1.5) it cannot
+// converge: the evaluation fails and the run stops with a failed status, without an exception.
+TEST_CASE("bearing friction: the coupled lever case by hand; no convergence fails cleanly", "[bearing_friction]") {
+  const std::string text = lgtest::replacedText(kLever, "position = [0.0, 0.2, 0.0]", "position = [0.1, 0.2, 0.0]");
+  const lg::Scene sc = lgtest::inlineScene(text);
+  const lg::Model<double>& m = sc.model;
+  const auto& bf = std::get<lg::BearingFriction<double>>(m.forces[m.forceIndex("bearings")].type);
+  lg::State<double> st = sc.initial;
+  lgtest::setBody(m, st, 0, Vec3<double>(0.1, 0.2, 0), lg::Vec4<double>(1, 0, 0, 0), Vec3<double>(0, -1.0, 0),
+                  Vec3<double>::Zero());
+  lg::Workspace<double> w(m);
+  lg::VecX<double> ydot = lg::VecX<double>::Zero(m.ny());
+  REQUIRE(lg::evaluate(m, st.y, st.active, st.lambda, w, ydot));
+  double out[4];
+  bf.outputs(w.kins(), out);
+  const double P = 500.0, mu = 0.2, d = 0.1, zu = 0.8, zl = 0.4, Dz = zu - zl, sg = -1.0 / std::sqrt(1.0 + 1e-6);
+  const double F = mu * sg * P * (2 * zu - Dz) / Dz / (1 - 2 * mu * sg * d / Dz);
+  const double Nl = -(d * F + zu * P) / Dz, Nu = -P - Nl;
+  report("bearing coupled lever: F %.12f (hand %.12f), N_u %.12f (%.12f), N_l %.12f (%.12f)", out[2], F, out[0], Nu, out[1], -Nl);
+  CHECK(std::abs(out[2] - F) <= 1e-12 * std::abs(F));
+  CHECK(std::abs(out[0] - Nu) <= 1e-12 * Nu);
+  CHECK(std::abs(out[1] + Nl) <= 1e-12 * -Nl);
+  CHECK(ydot[7 + 1] == Approx(-kG - F / 10.0).epsilon(1e-12));
+
+  lg::Scene bad = lgtest::inlineScene(lgtest::replacedText(text, "mu = 0.2", "mu = 3.0"));
+  lg::Workspace<double> wb(bad.model);
+  lg::State<double> sb = bad.initial;
+  lgtest::setBody(bad.model, sb, 0, Vec3<double>(0.1, 0.2, 0), lg::Vec4<double>(1, 0, 0, 0), Vec3<double>(0, -1.0, 0),
+                  Vec3<double>::Zero());
+  CHECK_FALSE(lg::evaluate(bad.model, sb.y, sb.active, sb.lambda, wb, ydot));
+  lg::RunStatus rs;
+  CHECK_NOTHROW(rs = lg::simulate(bad.model, sb, wb, 0.1));
+  CHECK_FALSE(rs.ok);
+}
+
 // The same reactions and friction with the Gauss-Seidel multipliers (the iteration's other solve).
 TEST_CASE("bearing friction: the lever case with Gauss-Seidel multipliers", "[bearing_friction]") {
   lg::Scene sc = lgtest::inlineScene(kLever);
