@@ -132,7 +132,7 @@ TEST_CASE("bearing friction: the lever case by hand", "[bearing_friction]") {
 // at sdot = -1 m/s F = -272.7 N against -300 N uncoupled. The fixed-point iteration (gain 2 mu d / Dz = 0.1)
 // reaches it to round-off (measured 1.4e-14 relative, asserted 1e-12). With mu = 3 (gain 1.5) it cannot
 // converge: the evaluation fails and the run stops with a failed status, without an exception.
-TEST_CASE("bearing friction: the coupled lever case by hand; no convergence fails cleanly", "[bearing_friction]") {
+TEST_CASE("bearing friction: the coupled lever case by hand, no convergence fails cleanly", "[bearing_friction]") {
   const std::string text = lgtest::replacedText(kLever, "position = [0.0, 0.2, 0.0]", "position = [0.1, 0.2, 0.0]");
   const lg::Scene sc = lgtest::inlineScene(text);
   const lg::Model<double>& m = sc.model;

@@ -354,7 +354,7 @@ std::array<Vec6<double>, 2> wrenchOf(const lg::Bushing<double>& b, const TwoBodi
 // largest component. The dissipation rate equals minus the damping wrench's power (asserted 1e-13). The six
 // damping terms give the velocity Jacobian of the wrench: -sum c G^T G against central differences in V
 // (linear: measured 7.5e-12 of the largest entry, asserted 5e-11).
-TEST_CASE("bushing: forces are the gradient of the energy; damping terms are the velocity Jacobian", "[bushing][jacobian]") {
+TEST_CASE("bushing: forces are the gradient of the energy, damping terms the velocity Jacobian", "[bushing][jacobian]") {
   for (const double scale : {1.0, 1e-2, 1e-5}) {
     const lg::Bushing<double> b = sampleBushing(scale);
     const TwoBodies t;
@@ -497,7 +497,7 @@ TEST_CASE("bushing: Jet derivatives against central differences", "[bushing][jet
 // displacement along the bushing's x axis in k_x and c_x (Jet) against central differences of the double
 // runs (relative step 1e-5): measured 1.5e-9 (k_x) and 2.5e-9 (c_x) relative, asserted 1e-8. The design parameters resolve by the
 // scene's keys with their units.
-TEST_CASE("bushing: Jet derivatives of a run; design parameters", "[bushing][jet]") {
+TEST_CASE("bushing: Jet derivatives of a run, design parameters", "[bushing][jet]") {
   using J = ceres::Jet<double, 2>;
   std::string text = bodyOnBushing(true, "", "x_axis = [0.6, 0.8, 0.0]\nz_axis = [0.0, 0.0, 1.0]", true);
   text = lgtest::replacedText(text, "integrator = \"dopri5\"\nrtol = 1e-10\natol = 1e-12\n", "integrator = \"rk4\"\nstep = 1e-3\n");
