@@ -221,7 +221,8 @@ TEST_CASE("bearing friction: energy balance of a rod sliding to rest", "[bearing
 // The seed gear with bearing friction (mu = 0.1) on its strut's sliding joint v (upper bearing on the
 // cylinder 0.25 m above B, lower bearing on the rod 0.45 m above B): the limit drop runs, its energy balance
 // closes below 1e-6 (measured 2.6e-7) with the bearings' work in it, and the friction changes the peak load
-// (measured 86253.69 -> 86281.63 N).
+// (measured 86253.69 -> 86281.63 N). Its history has the columns N_upper, N_lower, F_friction [N], s_dot [m/s]
+// (suffixed by the element's name), the friction law holding in every row (measured 1.4e-14 N of 66 N).
 // Without the element nothing changes (the seed gear's results are bit for bit those of a scene without it:
 // the stage costs one branch).
 TEST_CASE("bearing friction: the seed gear's drop with bearing friction on the strut", "[bearing_friction][drop]") {
@@ -238,7 +239,28 @@ lower_bearing = [-0.47, 0.81, 0.0]
 )";
   const lg::Scene sc = lg::parseScene(text, lgtest::sourcePath("data/seed_gear.toml"));
   const auto p = lg::runCase(seed, lgtest::findCase(seed, "limit")).metrics;
-  const auto b = lg::runCase(sc, lgtest::findCase(sc, "limit")).metrics;
+  lg::CaseOptions opt;
+  opt.record = true;
+  const lg::CaseResult rb = lg::runCase(sc, lgtest::findCase(sc, "limit"), opt);
+  const auto& b = rb.metrics;
+  // The history's columns of the element, with their units: |F_f| = mu (N_u + N_l) |sgn_eps(s')| in every row.
+  const int cu = rb.column("N_upper_bearings"), cl = rb.column("N_lower_bearings"), cf = rb.column("F_friction_bearings"),
+            cv = rb.column("s_dot_bearings");
+  REQUIRE(cu >= 0);
+  REQUIRE(cl == cu + 1);
+  REQUIRE(cf == cu + 2);
+  REQUIRE(cv == cu + 3);
+  CHECK(rb.columns[cu].unit == "N");
+  CHECK(rb.columns[cv].unit == "m/s");
+  double worst = 0, largest = 0;
+  for (const auto& smp : rb.samples) {
+    const double v = smp.values[cv], law = 0.1 * (smp.values[cu] + smp.values[cl]) * v / std::sqrt(v * v + 1e-6);
+    worst = std::max(worst, std::abs(smp.values[cf] - law));
+    largest = std::max(largest, std::abs(law));
+  }
+  report("seed gear with bearing friction: largest friction %.3f N, law in the history rows to %.1e N", largest, worst);
+  CHECK(largest > 1.0);
+  CHECK(worst <= 1e-9 * largest);
   report("seed gear limit drop with bearing friction: peak %.3f -> %.3f N, stroke %.5f -> %.5f m, E_bal %.1e, steps %ld -> %ld",
          p.peak_load_N, b.peak_load_N, p.stroke_max_m, b.stroke_max_m, b.energy_balance_error, long(p.steps), long(b.steps));
   REQUIRE(b.ok);

@@ -547,6 +547,17 @@ TEST_CASE("bushing: Jet derivatives of a run, design parameters", "[bushing][jet
   CHECK_THROWS_AS(lg::resolveParameter(sc, "fitting.k", "test"), lg::InputError);
   const auto names = sc.model.outputNames;
   CHECK(std::find(names.begin(), names.end(), "fitting.M_z") != names.end());
+  // The history columns of a bushing, with their units.
+  const auto cols = lg::historyColumns(sc);
+  auto unitOf = [&](const std::string& n) {
+    for (const auto& c : cols)
+      if (c.name == n) return c.unit;
+    return std::string("absent");
+  };
+  CHECK(unitOf("F_x_fitting") == "N");
+  CHECK(unitOf("M_z_fitting") == "N m");
+  CHECK(unitOf("d_y_fitting") == "m");
+  CHECK(unitOf("theta_z_fitting") == "rad");
 }
 
 TEST_CASE("bushing: bad input names file, line, key and rule, exit status 2", "[bushing][input]") {
