@@ -18,7 +18,7 @@
 // The reactions depend on the friction: the engine's stage bearingFriction (sim/engine.hpp) iterates
 // F -> lambda -> F on the factor of the multipliers' solve, which contracts when mu times the lever ratio
 // of the joint is below 1; it stops at |dF| <= 1e-12 (1 + |F|) and fails the evaluation (a failed run
-// status, never an exception) after 50 iterations. apply() therefore adds nothing: the stage applies the
+// status, never an exception) after 60 iterations. apply() therefore adds nothing: the stage applies the
 // friction and writes the dissipation rate. The joint keeps its rows (a prismatic joint to the ground is
 // not eliminated into its body's mobility when it has bearing friction). The acceleration-level decisions
 // of contact and strut friction modes (resolveContacts) are taken without the bearing friction, and a
