@@ -115,6 +115,14 @@ template <class S> class DropObserver {
     }
     for (int k = 0; k < m.nRows; ++k)
       if (m.rowInfo[k].friction()) lockRows_.push_back(k);
+    // The elements whose outputs are history columns of their own (historyColumns: bushings, bearing friction).
+    for (size_t f = 0; f < m.forces.size(); ++f)
+      std::visit(
+          [&](const auto& e) {
+            if constexpr (requires { e.outputUnit(std::string()); })
+              elementOut_.push_back({m.outputOffset[f], static_cast<int>(e.outputNames().size())});
+          },
+          m.forces[f].type);
     for (int f : sc.roles.struts) {
       strutOut_.push_back(m.outputOffset[f]);
       strutOutputs_.push_back(static_cast<int>(m.forces[f].outputNames().size()));
@@ -359,11 +367,12 @@ template <class S> class DropObserver {
   // the integrator's workspace is never touched.
   // Channels at state y in a contact and friction mode (active, slip): poses and force outputs, which
   // read each strut's slip direction; with a stuck friction lock a full evaluation, for its reaction
-  // (part of P_a), else the locks' reactions are 0.
+  // (part of P_a), else the locks' reactions are 0; with bearing friction a full evaluation (its outputs
+  // read the joint's multipliers).
   void at(const S& t, const VecX<S>& y, const std::vector<char>& active, const std::vector<signed char>& slip,
           Channels& c) {
     wo_.slip = slip;
-    bool stuck = false;
+    bool stuck = !m_.bearingForces.empty();
     for (int r : lockRows_) stuck = stuck || active[r];
     if (stuck) {
       evaluate(m_, y, active, lambdaTmp_, wo_, ydotTmp_);
@@ -486,6 +495,8 @@ template <class S> class DropObserver {
     for (size_t k = 0; k < strutOut_.size(); ++k)
       for (int i = 0; i < strutOutputs_[k]; ++i) row.push_back(o[strutOut_[k] + i]);
     for (int r : stopRows_) row.push_back(lambda[r] * rowsW.rows[r].Ji.template head<3>().norm());  // [N]
+    for (const auto& [off, n] : elementOut_)
+      for (int i = 0; i < n; ++i) row.push_back(o[off + i]);
     row.push_back(S(violation(active, rowsW)));
     if (rows_) rows_->push_back(row);
     if constexpr (kDouble) {
@@ -630,6 +641,7 @@ template <class S> class DropObserver {
   std::vector<char> stepActive_;  // the contact mode of the step in progress (rows on the dense output)
   std::vector<signed char> stepSlip_;  // and its friction locks' slip directions
   std::vector<int> lockRows_;          // the friction-lock rows (exact Coulomb struts)
+  std::vector<std::pair<int, int>> elementOut_;  // (output offset, count) of the bushings and bearing frictions
   int timeSlot_ = -1;
   Channels prev_, end_, mid_, after_, scratch_;
   CaseFigures<S> F_;

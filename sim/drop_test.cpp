@@ -56,6 +56,14 @@ std::vector<Column> historyColumns(const Scene& scene) {
       c.push_back({n + sfx, n == "s" ? "m" : n == "s_dot" ? "m/s" : n == "p_1" || n == "p_2" ? "Pa" : "N"});
   }
   for (int ci : scene.roles.stops) c.push_back({"F_" + m.constraints[ci].name, "N"});
+  // Bushings and bearing friction, when declared: their outputs, suffixed by the element's name.
+  for (const auto& f : m.forces)
+    std::visit(
+        [&](const auto& e) {
+          if constexpr (requires { e.outputUnit(std::string()); })
+            for (const std::string& n : e.outputNames()) c.push_back({n + "_" + f.name, e.outputUnit(n)});
+        },
+        f.type);
   c.push_back({"violation", "m"});
   return c;
 }

@@ -140,6 +140,59 @@ template <class S> bool multipliers(const Model<S>& m, const std::vector<char>& 
   return ok;
 }
 
+// ---- stage: joint friction from bearing reactions (sim/forces/bearing_friction.hpp) -------------
+// The friction F of each bearing-friction element depends on its joint's multipliers, which depend on
+// the friction: the fixed-point iteration F -> lambda -> F from the friction-free multipliers, each step
+// one solve on the factor of the multipliers' stage (direct) or a warm-started Gauss-Seidel, until
+// |dF| <= 1e-12 (1 + |F|) (it contracts when mu times the joint's lever ratio is below 1). Then the
+// friction's accelerations join aFree and its dissipation rates are written. Returns false (the
+// evaluation fails) without convergence in 60 iterations. Nothing when no scene declares bearing friction.
+template <class S> bool bearingFriction(const Model<S>& m, VecX<S>& lambdaAll, Workspace<S>& w) {
+  if (m.bearingForces.empty()) return true;
+  const int n = static_cast<int>(w.list.size()), nb = static_cast<int>(m.bearingForces.size());
+  const Kins<S> K = w.kins();
+  auto element = [&](int q) -> const BearingFriction<S>& { return std::get<BearingFriction<S>>(m.forces[m.bearingForces[q]].type); };
+  for (int a = 0; a < n; ++a) w.bearingB0[a] = w.b[a];
+  for (int q = 0; q < nb; ++q) w.bearingF[q] = element(q).eval(K, lambdaAll.data() + element(q).jointRow).force;
+  bool converged = false;
+  for (int it = 0; it < 60 && !converged; ++it) {
+    for (auto& z : w.zb) z.setZero();
+    for (int q = 0; q < nb; ++q) {
+      const BearingFriction<S>& e = element(q);
+      const auto r = e.eval(K, lambdaAll.data() + e.jointRow);
+      Vec6<S> onRod, onCylinder;
+      e.wrench(r, w.bearingF[q], onRod, onCylinder);
+      if (e.bi >= 0) w.zb[e.bi] += w.kin[e.bi].invMassTimes(onRod.template head<3>(), onRod.template tail<3>());
+      if (e.bj >= 0) w.zb[e.bj] += w.kin[e.bj].invMassTimes(onCylinder.template head<3>(), onCylinder.template tail<3>());
+    }
+    if (n > 0) {
+      for (int a = 0; a < n; ++a) w.b[a] = w.bearingB0[a] - rowDot(m, w, w.list[a], w.zb);
+      if (m.settings.solver == MultiplierSolver::Direct) {
+        for (int a = 0; a < n; ++a) w.lam[a] = w.b[a];
+        solveA(w, w.lam);
+      } else if (!solveEquality(m, w, false)) {
+        return false;
+      }
+      for (int a = 0; a < n; ++a) lambdaAll[w.list[a]] = w.lam[a];
+    }
+    converged = true;  // (once converged, F stays the one lambda was solved with)
+    for (int q = 0; q < nb; ++q) {
+      const double dF = std::abs(value(element(q).eval(K, lambdaAll.data() + element(q).jointRow).force - w.bearingF[q]));
+      if (!(dF <= 1e-12 * (1.0 + std::abs(value(w.bearingF[q]))))) converged = false;
+    }
+    if (!converged)
+      for (int q = 0; q < nb; ++q) w.bearingF[q] = element(q).eval(K, lambdaAll.data() + element(q).jointRow).force;
+  }
+  if (!converged) return false;
+  w.rowLambda = lambdaAll;
+  for (int b = 0; b < m.nBodies(); ++b) w.aFree[b] += w.zb[b];
+  for (int q = 0; q < nb; ++q) {
+    const BearingFriction<S>& e = element(q);
+    w.dissipation[m.dissipationOffset[m.bearingForces[q]]] = w.bearingF[q] * e.eval(K, lambdaAll.data() + e.jointRow).sdot;
+  }
+  return true;
+}
+
 // ---- stage: velocity stiffness (for the linearly implicit integrator) --------------------------
 // For each damping term G, c of the force elements: u = M_c^-1 G^T, the constrained acceleration
 // response to a unit generalised force along G^T:
@@ -194,7 +247,7 @@ template <class S> bool evaluate(const Model<S>& m, const VecX<S>& y, const std:
   kinematics(m, y, w);
   forces(m, w);
   constraintRows(m, w);
-  const bool ok = multipliers(m, active, lambda, w);
+  const bool ok = multipliers(m, active, lambda, w) && bearingFriction(m, lambda, w);
   const int N = m.nBodies();
   for (int b = 0; b < N; ++b) {
     Vec6<S> a = w.aFree[b];

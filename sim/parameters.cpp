@@ -68,6 +68,10 @@ std::string unitOfKey(const std::string& key) {
       {"damping_exponent", "-"}, {"mu_x", "-"}, {"slip_ratio", "-"},
       // spring-damper
       {"k", "N/m"}, {"c", "N s/m"},
+      // bushing
+      {"k_x", "N/m"}, {"k_y", "N/m"}, {"k_z", "N/m"}, {"c_x", "N s/m"}, {"c_y", "N s/m"}, {"c_z", "N s/m"},
+      {"k_rx", "N m/rad"}, {"k_ry", "N m/rad"}, {"k_rz", "N m/rad"},
+      {"c_rx", "N m s/rad"}, {"c_ry", "N m s/rad"}, {"c_rz", "N m s/rad"},
   };
   const auto open = key.find('[');  // a table's sample: the table's unit
   const auto it = units.find(open == std::string::npos ? key : key.substr(0, open));

@@ -40,6 +40,9 @@ class Checker {
       if (const auto* s = std::get_if<ShockAbsorber<double>>(&m_.forces[f].type)) p = strut(static_cast<int>(f), *s);
       else if (const auto* t = std::get_if<Tyre<double>>(&m_.forces[f].type)) p = tyre(static_cast<int>(f), *t);
       else if (const auto* d = std::get_if<SpringDamper<double>>(&m_.forces[f].type)) p = springDamper(static_cast<int>(f), *d);
+      else if (const auto* b = std::get_if<Bushing<double>>(&m_.forces[f].type)) p = bushing(static_cast<int>(f), *b);
+      else if (const auto* bf = std::get_if<BearingFriction<double>>(&m_.forces[f].type); bf && !(bf->mu >= 0))
+        p = problem("force", static_cast<int>(f), "mu", "value " + num(bf->mu) + " must be >= 0");
       if (p) return p;
     }
     for (size_t c = 0; c < sc_.cases.size(); ++c) {
@@ -192,6 +195,14 @@ class Checker {
   std::optional<SceneProblem> springDamper(int f, const SpringDamper<double>& d) const {
     for (const auto& [key, v] : {std::pair<const char*, double>{"k", d.k}, {"c", d.c}, {"L0", d.L0}})
       if (!(v >= 0)) return problem("force", f, key, "value " + num(v) + " must be >= 0");
+    return std::nullopt;
+  }
+
+  std::optional<SceneProblem> bushing(int f, const Bushing<double>& b) const {
+    static const char* kKeys[12] = {"k_x", "k_y", "k_z", "c_x", "c_y", "c_z", "k_rx", "k_ry", "k_rz", "c_rx", "c_ry", "c_rz"};
+    const Vec3<double>* comp[4] = {&b.kt, &b.ct, &b.kr, &b.cr};
+    for (int k = 0; k < 12; ++k)
+      if (!((*comp[k / 3])[k % 3] >= 0)) return problem("force", f, kKeys[k], "value " + num((*comp[k / 3])[k % 3]) + " must be >= 0");
     return std::nullopt;
   }
 

@@ -48,6 +48,7 @@ template <class S> struct Model {
   std::vector<RowInfo> rowInfo;   // one per scalar constraint row, then the force elements' friction locks
   std::vector<int> rowOffset;     // first row of each constraint
   std::vector<int> lockRow;       // per force element: its friction-lock row, or -1
+  std::vector<int> bearingForces;  // the force elements with joint friction from bearing reactions (engine: bearingFriction)
   std::vector<signed char> mobility;    // per body: kFree, or kTranslation / kImmobile by an eliminated ground joint
   std::vector<Vec3<S>> mobilityAxis;    // per body: the world axis of a kTranslation body
   std::vector<int> dissipationOffset, eventOffset, outputOffset, dampingOffset;  // per force element
@@ -72,7 +73,12 @@ template <class S> struct Model {
     mobility.assign(bodies.size(), kFree);
     mobilityAxis.assign(bodies.size(), Vec3<S>::Zero());
     std::vector<char> eliminated(constraints.size(), 0);
+    // A joint with bearing friction keeps its rows: the friction reads their multipliers.
+    std::vector<char> keep(constraints.size(), 0);
+    for (const auto& f : forces)
+      if (const auto* bf = std::get_if<BearingFriction<S>>(&f.type); bf && bf->joint >= 0) keep[bf->joint] = 1;
     for (int c = 0; settings.eliminateGroundJoints && c < static_cast<int>(constraints.size()); ++c) {
+      if (keep[c]) continue;
       if (const auto* p = std::get_if<Prismatic<S>>(&constraints[c].type)) {
         const int b = p->bj == kGround ? p->bi : (p->bi == kGround ? p->bj : kGround);
         if (b == kGround || mobility[b] != kFree) continue;
@@ -111,6 +117,12 @@ template <class S> struct Model {
       rowInfo.push_back(ri);
     }
     nRows = static_cast<int>(rowInfo.size());
+    bearingForces.clear();
+    for (int f = 0; f < static_cast<int>(forces.size()); ++f)
+      if (auto* bf = std::get_if<BearingFriction<S>>(&forces[f].type)) {
+        bf->jointRow = bf->joint >= 0 ? rowOffset[bf->joint] : -1;
+        bearingForces.push_back(f);
+      }
     dissipationOffset.clear();
     eventOffset.clear();
     outputOffset.clear();

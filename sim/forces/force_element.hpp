@@ -10,6 +10,8 @@
 #include <variant>
 #include <vector>
 
+#include "sim/forces/bearing_friction.hpp"
+#include "sim/forces/bushing.hpp"
 #include "sim/forces/constant_force.hpp"
 #include "sim/forces/gravity.hpp"
 #include "sim/forces/shock_absorber.hpp"
@@ -19,7 +21,8 @@
 namespace lg {
 
 template <class S>
-using ForceType = std::variant<Gravity<S>, ConstantForce<S>, ShockAbsorber<S>, Tyre<S>, SpringDamper<S>>;
+using ForceType = std::variant<Gravity<S>, ConstantForce<S>, ShockAbsorber<S>, Tyre<S>, SpringDamper<S>,
+                               Bushing<S>, BearingFriction<S>>;
 
 template <class S> struct ForceElement {
   std::string name;

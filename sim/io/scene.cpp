@@ -548,8 +548,69 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
       s.c = r.nonNegative("c", 0.0);
       s.L0 = r.nonNegative("L0", (p2 - p1).norm());
       f.type = s;
+    } else if (type == "bushing") {
+      static const char* kKeys[12] = {"k_x", "k_y", "k_z", "c_x", "c_y", "c_z", "k_rx", "k_ry", "k_rz", "c_rx", "c_ry", "c_rz"};
+      r.allowOnly({"name", "type", "body1", "body2", "point", "point2", "x_axis", "z_axis", "k_x", "k_y", "k_z", "c_x", "c_y",
+                   "c_z", "k_rx", "k_ry", "k_rz", "c_rx", "c_ry", "c_rz"});
+      Bushing<double> s;
+      s.bi = bodyRef(r, "body1");
+      s.bj = bodyRef(r, "body2");
+      if (s.bi == s.bj) r.fail("body2", "a bushing needs two different bodies");
+      const Vec3<double> p1 = r.vec3("point"), p2 = r.vec3("point2", p1);
+      const Vec3<double> ex = r.unitVec3("x_axis", Vec3<double>(1, 0, 0));
+      const Vec3<double> ez = r.unitVec3("z_axis", Vec3<double>(0, 0, 1));
+      if (std::abs(ex.dot(ez)) > 1e-6) r.fail("z_axis", "must be perpendicular to x_axis");
+      const Mat3<double> Q = rotation<double>(quaternionFromAxes(ex, ez));  // the bushing's axes in the scene
+      s.rho_i = toBody(s.bi, p1);
+      s.rho_j = toBody(s.bj, p2);
+      s.A_i = s.bi < 0 ? Q : Mat3<double>(poses[s.bi].R.transpose() * Q);
+      s.A_j = s.bj < 0 ? Q : Mat3<double>(poses[s.bj].R.transpose() * Q);
+      Vec3<double>* comp[4] = {&s.kt, &s.ct, &s.kr, &s.cr};
+      bool any = false;
+      for (int k = 0; k < 12; ++k) {
+        (*comp[k / 3])[k % 3] = r.nonNegative(kKeys[k], 0.0);
+        any = any || (*comp[k / 3])[k % 3] > 0;
+      }
+      if (!any) r.fail("k_x", "a bushing needs at least one stiffness or damping > 0 (k_x .. k_rz, c_x .. c_rz)");
+      f.type = s;
+    } else if (type == "bearing_friction") {
+      r.allowOnly({"name", "type", "joint", "mu", "upper_bearing", "lower_bearing", "friction_velocity"});
+      BearingFriction<double> e;
+      const std::string jn = r.string("joint");
+      e.joint = m.constraintIndex(jn);
+      if (e.joint < 0) r.fail("joint", "'" + jn + "' is not a joint of this scene");
+      Vec3<double> rhoJ;
+      if (const auto* sl = std::get_if<Sliding<double>>(&m.constraints[e.joint].type)) {
+        e.rows = 4;
+        e.bi = sl->bi, e.bj = sl->bj, e.rho_1 = sl->rho_i1, e.rho_2 = sl->rho_i2, e.n_a = sl->n_a, e.n_b = sl->n_b;
+        rhoJ = sl->rho_j;
+      } else if (const auto* pr = std::get_if<Prismatic<double>>(&m.constraints[e.joint].type)) {
+        e.rows = 5;
+        e.bi = pr->bi, e.bj = pr->bj, e.rho_1 = pr->rho_i1, e.rho_2 = pr->rho_i2, e.n_a = pr->n_a, e.n_b = pr->n_b;
+        rhoJ = pr->rho_j;
+      } else {
+        r.fail("joint", "'" + jn + "' must be a sliding or prismatic joint (bearing friction acts along a slide)");
+      }
+      // The joint's axis in the scene (the cylinder's, body 2), and the bearings on it.
+      const Pose pc = e.bj < 0 ? Pose{} : poses[e.bj];
+      const Vec3<double> axis = pc.R * e.n_a.cross(e.n_b), p0 = pc.r + pc.R * rhoJ;
+      const Vec3<double> pu = r.vec3("upper_bearing"), pl = r.vec3("lower_bearing");
+      for (const auto& [key, p] : {std::pair<const char*, Vec3<double>>{"upper_bearing", pu}, {"lower_bearing", pl}}) {
+        const Vec3<double> d = p - p0;
+        const double off = (d - axis * axis.dot(d)).norm();
+        if (off > 1e-6) r.fail(key, "the point is " + fmt(off) + " m off the axis of joint '" + jn + "' (tolerance 1e-6 m)");
+      }
+      if (!(std::abs(axis.dot(pl - pu)) > 1e-3))
+        r.fail("lower_bearing", "must be at least 1e-3 m from upper_bearing along the joint's axis (the lever rule divides by it)");
+      e.rho_u = toBody(e.bj, pu);
+      e.rho_l = toBody(e.bi, pl);
+      e.mu = r.number("mu");
+      if (!(e.mu >= 0)) r.fail("mu", "value " + fmt(e.mu) + " must be >= 0");
+      e.frictionVelocity = r.positive("friction_velocity", 1e-3);
+      f.type = e;
     } else {
-      r.fail("type", "value '" + type + "' must be one of gravity, lift, constant, shock_absorber, tyre, spring_damper");
+      r.fail("type", "value '" + type + "' must be one of gravity, lift, constant, shock_absorber, tyre, spring_damper, bushing, "
+                     "bearing_friction");
     }
     m.forces.push_back(f);
   }
