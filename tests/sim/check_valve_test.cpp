@@ -3,6 +3,7 @@
 // with the compression's values, a drop whose compression is the plain gear's and whose rebound is
 // damped harder, the damping term and Jet derivatives, and bad input.
 #include "sim/core/jet.hpp"
+#include "sim/io/overrides.hpp"
 #include "tests/sim/bad_input_support.hpp"
 #include "tests/sim/engine_support.hpp"
 
