@@ -117,7 +117,10 @@ std::string hline(double y, const char* colour, const std::string& name) {
 }
 }  // namespace
 
-bool haveGnuplot() { return std::system("command -v gnuplot >/dev/null 2>&1") == 0; }
+bool haveGnuplot() {  // asked once per process (a shell each time otherwise; it does not come and go in a run)
+  static const bool have = std::system("command -v gnuplot >/dev/null 2>&1") == 0;
+  return have;
+}
 
 void CaseFigure::drawElementsOf(const Scene& scene) {
   if (!scene.roles.struts.empty()) strut = scene.model.forces[scene.roles.struts[0]].name;

@@ -34,7 +34,7 @@ struct CaseFigure {
   void drawElementsOf(const Scene& scene);
 };
 
-// True when gnuplot can be run.
+// True when gnuplot can be run (looked up once per process).
 bool haveGnuplot();
 
 // The limits of a case for the picture: the scene's first strut's S_max and first tyre's delta_max.
