@@ -90,6 +90,22 @@ template <class S> void constraintRows(const Model<S>& m, Workspace<S>& w) {
   }
 }
 
+// Only the rows of the constraint or force element that owns row k (the same values constraintRows
+// writes for them): what an event function of one row needs on the dense output.
+template <class S> void ownerRows(const Model<S>& m, Workspace<S>& w, int k) {
+  ScopedStage timer(w.timer, kRows, m.settings.profile);
+  const Kins<S> K = w.kins();
+  const RowInfo& ri = m.rowInfo[k];
+  if (ri.friction()) {
+    Row<S>& row = w.rows[k];
+    std::visit([&](const auto& e) { if constexpr (requires { e.writeLock(K, row); }) e.writeLock(K, row); },
+               m.forces[ri.force].type);
+    return;
+  }
+  Row<S>* rows = w.rows.data() + m.rowOffset[ri.constraint];
+  std::visit([&](const auto& con) { con.write(K[con.bi], K[con.bj], rows); }, m.constraints[ri.constraint].type);
+}
+
 // J_k V for row k.
 template <class S> S rowVelocity(const Model<S>& m, const Workspace<S>& w, int k) {
   const RowInfo& ri = m.rowInfo[k];

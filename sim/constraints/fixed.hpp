@@ -20,8 +20,9 @@ template <class S> struct Fixed {
 
   void write(const BodyKin<S>& Ki, const BodyKin<S>& Kj, Row<S>* rows) const {
     writeCoincidentPoints(Ki, rho_i, Kj, rho_j, rows);
-    writePointOnPlane(Ki, rho_ix, Kj, rho_j, t_y, rows[3]);
-    writePointOnPlane(Ki, rho_ix, Kj, rho_j, t_z, rows[4]);
+    const PlanePoint<S> px(Ki, rho_ix, Kj, rho_j);  // (the point's part of both rows, once)
+    px.write(Kj, t_y, rows[3]);
+    px.write(Kj, t_z, rows[4]);
     writePointOnPlane(Ki, rho_iy, Kj, rho_j, t_z, rows[5]);
   }
   template <class T> Fixed<T> cast() const {

@@ -21,10 +21,11 @@ template <class S> struct Prismatic {
   Vec3<S> n_a, n_b;                // [-] normals of two planes through the axis, in body j
 
   void write(const BodyKin<S>& Ki, const BodyKin<S>& Kj, Row<S>* rows) const {
-    writePointOnPlane(Ki, rho_i1, Kj, rho_j, n_a, rows[0]);
-    writePointOnPlane(Ki, rho_i1, Kj, rho_j, n_b, rows[1]);
-    writePointOnPlane(Ki, rho_i2, Kj, rho_j, n_a, rows[2]);
-    writePointOnPlane(Ki, rho_i2, Kj, rho_j, n_b, rows[3]);
+    const PlanePoint<S> p1(Ki, rho_i1, Kj, rho_j), p2(Ki, rho_i2, Kj, rho_j);  // (each point's part once)
+    p1.write(Kj, n_a, rows[0]);
+    p1.write(Kj, n_b, rows[1]);
+    p2.write(Kj, n_a, rows[2]);
+    p2.write(Kj, n_b, rows[3]);
     writePointOnPlane(Ki, rho_i3, Kj, rho_j, n_b, rows[4]);
   }
   template <class T> Prismatic<T> cast() const {

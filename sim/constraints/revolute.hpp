@@ -22,8 +22,9 @@ template <class S> struct Revolute {
 
   void write(const BodyKin<S>& Ki, const BodyKin<S>& Kj, Row<S>* rows) const {
     writeCoincidentPoints(Ki, rho_i, Kj, rho_j, rows);
-    writePointOnPlane(Ki, rho_i2, Kj, rho_j, n_a, rows[3]);
-    writePointOnPlane(Ki, rho_i2, Kj, rho_j, n_b, rows[4]);
+    const PlanePoint<S> p2(Ki, rho_i2, Kj, rho_j);  // (the axis point's part of both rows, once)
+    p2.write(Kj, n_a, rows[3]);
+    p2.write(Kj, n_b, rows[4]);
   }
   template <class T> Revolute<T> cast() const {
     return {bi, bj, castVec<T>(rho_i), castVec<T>(rho_j), castVec<T>(rho_i2), castVec<T>(n_a), castVec<T>(n_b)};

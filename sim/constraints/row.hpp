@@ -35,24 +35,34 @@ struct RowInfo {
 //   J_i  = ( n^T,  (a_i x n)^T )
 //   J_j  = (-n^T, -((p_i - r_j) x n)^T )
 //   gamma = 2 (w_j x n).(u_i - u_j) + n.(w_i x (w_i x a_i) - w_j x (w_j x a_j)) + (w_j x (w_j x n)).d
+// The part of it that depends on the point only (not on the plane's normal), shared by the rows of
+// one point in several planes of body j (a revolute joint's axis point, a sliding joint's).
+template <class S> struct PlanePoint {
+  Vec3<S> a_i, d, lever, u, acc;  // a_i, p_i - p_j, p_i - r_j, u_i - u_j, w_i x (w_i x a_i) - w_j x (w_j x a_j)
+  PlanePoint(const BodyKin<S>& Ki, const Vec3<S>& rho_i, const BodyKin<S>& Kj, const Vec3<S>& rho_j) {
+    a_i = Ki.R * rho_i;
+    const Vec3<S> a_j = Kj.R * rho_j;
+    const Vec3<S> p_i = Ki.r + a_i;
+    const Vec3<S> p_j = Kj.r + a_j;
+    d = p_i - p_j;
+    lever = p_i - Kj.r;
+    u = Ki.pointVelocity(a_i) - Kj.pointVelocity(a_j);
+    acc = Ki.w.cross(Ki.w.cross(a_i)) - Kj.w.cross(Kj.w.cross(a_j));
+  }
+  void write(const BodyKin<S>& Kj, const Vec3<S>& n0_j, Row<S>& row) const {
+    const Vec3<S> n = Kj.R * n0_j;
+    const Vec3<S> wn = Kj.w.cross(n);
+    row.C = n.dot(d);
+    row.Ji << n, a_i.cross(n);
+    row.Jj << -n, -lever.cross(n);
+    row.gamma = S(2) * wn.dot(u) + n.dot(acc) + Kj.w.cross(wn).dot(d);
+  }
+};
+
 template <class S>
 inline void writePointOnPlane(const BodyKin<S>& Ki, const Vec3<S>& rho_i, const BodyKin<S>& Kj,
                               const Vec3<S>& rho_j, const Vec3<S>& n0_j, Row<S>& row) {
-  const Vec3<S> a_i = Ki.R * rho_i;
-  const Vec3<S> a_j = Kj.R * rho_j;
-  const Vec3<S> p_i = Ki.r + a_i;
-  const Vec3<S> p_j = Kj.r + a_j;
-  const Vec3<S> n = Kj.R * n0_j;
-  const Vec3<S> d = p_i - p_j;
-  const Vec3<S> u_i = Ki.pointVelocity(a_i);
-  const Vec3<S> u_j = Kj.pointVelocity(a_j);
-  const Vec3<S> wn = Kj.w.cross(n);
-  row.C = n.dot(d);
-  row.Ji << n, a_i.cross(n);
-  row.Jj << -n, -(p_i - Kj.r).cross(n);
-  row.gamma = S(2) * wn.dot(u_i - u_j) +
-              n.dot(Ki.w.cross(Ki.w.cross(a_i)) - Kj.w.cross(Kj.w.cross(a_j))) +
-              Kj.w.cross(wn).dot(d);
+  PlanePoint<S>(Ki, rho_i, Kj, rho_j).write(Kj, n0_j, row);
 }
 
 // Writes the three rows of "p_j - p_i = 0" (method.md, type 1):

@@ -21,10 +21,11 @@ template <class S> struct Sliding {
   Vec3<S> n_a, n_b;        // [-] normals of the two planes through the axis, in body j
 
   void write(const BodyKin<S>& Ki, const BodyKin<S>& Kj, Row<S>* rows) const {
-    writePointOnPlane(Ki, rho_i1, Kj, rho_j, n_a, rows[0]);
-    writePointOnPlane(Ki, rho_i1, Kj, rho_j, n_b, rows[1]);
-    writePointOnPlane(Ki, rho_i2, Kj, rho_j, n_a, rows[2]);
-    writePointOnPlane(Ki, rho_i2, Kj, rho_j, n_b, rows[3]);
+    const PlanePoint<S> p1(Ki, rho_i1, Kj, rho_j), p2(Ki, rho_i2, Kj, rho_j);  // (each point's part once)
+    p1.write(Kj, n_a, rows[0]);
+    p1.write(Kj, n_b, rows[1]);
+    p2.write(Kj, n_a, rows[2]);
+    p2.write(Kj, n_b, rows[3]);
   }
   template <class T> Sliding<T> cast() const {
     return {bi, bj, castVec<T>(rho_i1), castVec<T>(rho_i2), castVec<T>(rho_j), castVec<T>(n_a), castVec<T>(n_b)};

@@ -37,7 +37,8 @@ template <class S> double eventValueAt(StepContext<S>& c, const DenseOutput<S>& 
     }
     return 0.0;
   }
-  constraintRows(c.m, c.w);  // (all rows: one constraint's would do, the lock rows come last)
+  ownerRows(c.m, c.w, i);  // (row i's constraint or lock only: the workspace's other rows are stale until
+                           // the next constraintRows, which dipsThrough and every event's handling run)
   if (c.m.rowInfo[i].friction()) return value(S(c.s.slip[i]) * rowVelocity(c.m, c.w, i));
   return value(c.w.rows[i].C + S(c.m.settings.contactTolerance) * c.w.rows[i].Ji.template head<3>().norm());
 }

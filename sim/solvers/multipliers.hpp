@@ -179,6 +179,9 @@ template <class S> inline S dotN(const S* a, const S* b, int len) {
 template <class S> inline S dot6(const S* a, const S* b) { return dotN(a, b, 6); }
 #ifdef __SSE2__
 inline double dotN(const double* a, const double* b, int len) {
+  // The short products of a sparse factor (most of its calls: length 0 or 1) without the vector set-up,
+  // the same sums as below: (0 + a0 b0) + 0.
+  if (len <= 1) return len == 0 ? 0.0 : (0.0 + a[0] * b[0]) + 0.0;
   __m128d acc = _mm_setzero_pd();
   int k = 0;
   for (; k + 1 < len; k += 2) acc = _mm_add_pd(acc, _mm_mul_pd(_mm_loadu_pd(a + k), _mm_loadu_pd(b + k)));
