@@ -14,6 +14,8 @@
 #include "optim/report.hpp"
 #include "optim/study.hpp"
 
+#include "files_support.hpp"  // TempDir, readFile
+
 // After the project headers: glog (through Ceres) defines CHECK too; Catch's must win.
 #include <catch2/catch.hpp>
 
@@ -22,18 +24,15 @@ using namespace lg::optim;
 
 namespace {
 
+// A fresh directory 'tag' in this test process's temporary directory (removed when it exits).
 fs::path tempDir(const std::string& tag) {
-  const fs::path d = fs::temp_directory_path() / ("lg_optimize_cli_" + tag + "_" + std::to_string(::getpid()));
+  static const lgtest::TempDir root("optimize_cli");
+  const fs::path d = root.path / tag;
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
 }
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using lgtest::readFile;
 std::string q(const std::string& s) { return "'" + s + "'"; }
 const std::string kStudy = std::string(LG_SOURCE_DIR) + "/studies/seed_gear_min_peak.cfg";
 

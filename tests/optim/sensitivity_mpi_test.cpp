@@ -13,6 +13,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "files_support.hpp"  // TempDir, readFile, writeFile
+
 // After the project headers: glog (through Ceres) defines CHECK too; Catch's must win.
 #include <catch2/catch.hpp>
 
@@ -20,18 +22,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// This test process's temporary directory (removed when it exits).
 fs::path tempDir() {
-  const fs::path d = fs::temp_directory_path() / ("lg_sensitivity_mpi_test_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
+  static const lgtest::TempDir dir("sensitivity_mpi_test");
+  return dir.path;
 }
 
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using lgtest::readFile;
 
 // Every regular file under dir, by its relative path.
 std::set<std::string> files(const fs::path& dir) {

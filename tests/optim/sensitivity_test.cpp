@@ -18,6 +18,8 @@
 #include "sim/certification.hpp"
 #include "sim/metrics.hpp"
 
+#include "files_support.hpp"  // TempDir, readFile, writeFile
+
 // After the project headers: glog (through Ceres) defines CHECK too; Catch's must win.
 #include <catch2/catch.hpp>
 
@@ -28,16 +30,16 @@ namespace {
 
 const std::string kScene = std::string(LG_SOURCE_DIR) + "/data/seed_gear.toml";
 
+// This test process's temporary directory (removed when it exits).
 fs::path tempDir() {
-  const fs::path d = fs::temp_directory_path() / ("lg_sensitivity_test_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
+  static const lgtest::TempDir dir("sensitivity_test");
+  return dir.path;
 }
 
 std::string write(const std::string& name, const std::string& text) {
-  const fs::path p = tempDir() / name;
-  std::ofstream(p) << text;
-  return p.string();
+  const std::string p = (tempDir() / name).string();
+  lgtest::writeFile(p, text);
+  return p;
 }
 
 // A study over strut.f1 and tyre.K on one matrix case; 'solver' and 'sens' go in (sens from line 13).

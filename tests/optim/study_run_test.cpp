@@ -13,6 +13,8 @@
 #include "optim/report.hpp"
 #include "optim/study.hpp"
 
+#include "files_support.hpp"  // TempDir, readFile, writeFile
+
 // After the project headers: glog (through Ceres) defines CHECK too; Catch's must win.
 #include <catch2/catch.hpp>
 
@@ -21,18 +23,13 @@ using namespace lg::optim;
 
 namespace {
 
+// This test process's temporary directory (removed when it exits).
 fs::path tempDir() {
-  const fs::path d = fs::temp_directory_path() / ("lg_study_run_test_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
+  static const lgtest::TempDir dir("study_run_test");
+  return dir.path;
 }
 
-std::string readFile(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using lgtest::readFile;
 
 // The shipped study, shortened.
 Study shippedStudy(int maxeval) {  // maxeval < 0: as shipped

@@ -11,6 +11,8 @@
 #include "optim/evaluator.hpp"
 #include "optim/study.hpp"
 
+#include "files_support.hpp"  // TempDir, readFile, writeFile
+
 // After the project headers: glog (through Ceres) defines CHECK too; Catch's must win.
 #include <catch2/catch.hpp>
 
@@ -21,16 +23,16 @@ namespace {
 
 const std::string kScene = std::string(LG_SOURCE_DIR) + "/data/seed_gear.toml";
 
+// This test process's temporary directory (removed when it exits).
 fs::path tempDir() {
-  const fs::path d = fs::temp_directory_path() / ("lg_study_test_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
+  static const lgtest::TempDir dir("study_test");
+  return dir.path;
 }
 
 std::string write(const std::string& name, const std::string& text) {
-  const fs::path p = tempDir() / name;
-  std::ofstream(p) << text;
-  return p.string();
+  const std::string p = (tempDir() / name).string();
+  lgtest::writeFile(p, text);
+  return p;
 }
 
 // A valid study; 'extra' is appended (lines 14 on).
