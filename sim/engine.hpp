@@ -193,11 +193,11 @@ template <class S> bool bearingFriction(const Model<S>& m, VecX<S>& lambdaAll, W
     }
     converged = true;  // (once converged, F stays the one lambda was solved with)
     for (int q = 0; q < nb; ++q) {
-      const double dF = std::abs(value(element(q).eval(K, lambdaAll.data() + element(q).jointRow).force - w.bearingF[q]));
+      w.bearingFNext[q] = element(q).eval(K, lambdaAll.data() + element(q).jointRow).force;
+      const double dF = std::abs(value(w.bearingFNext[q] - w.bearingF[q]));
       if (!(dF <= 1e-12 * (1.0 + std::abs(value(w.bearingF[q]))))) converged = false;
     }
-    if (!converged)
-      for (int q = 0; q < nb; ++q) w.bearingF[q] = element(q).eval(K, lambdaAll.data() + element(q).jointRow).force;
+    if (!converged) w.bearingF = w.bearingFNext;
   }
   if (!converged) return false;
   w.rowLambda = lambdaAll;

@@ -100,7 +100,7 @@ template <class S> struct Workspace {
   bool needDampingResponse = false;  // evaluate() also computes U (set by the Rosenbrock integrators)
   MatX<S> U, U0;                     // M_c^-1 G^T per damping term (constrained response), nv x nDamping
   std::vector<Vec6<S>> zb;           // per-body scratch
-  VecX<S> bearingB0, bearingF;       // bearing friction: the friction-free right-hand side, F_f per element
+  VecX<S> bearingB0, bearingF, bearingFNext;  // bearing friction: the friction-free right-hand side, F_f per element (and the next iterate)
   VecX<S> dampRhs, dampMu, smallT;   // scratch of the response and of the W solve
   MatX<S> smallM;                    // (I + G U C), nDamping x nDamping
   std::vector<PairTerm> pairs;       // terms of J M^-1 J^T for that list, grouped by the sides (i/j)
@@ -154,7 +154,7 @@ template <class S> struct Workspace {
     U = U0 = MatX<S>::Zero(m.nv(), m.nDamping);
     zb.assign(N, Vec6<S>::Zero());
     bearingB0 = VecX<S>::Zero(R);
-    bearingF = VecX<S>::Zero(static_cast<Eigen::Index>(m.bearingForces.size()));
+    bearingF = bearingFNext = VecX<S>::Zero(static_cast<Eigen::Index>(m.bearingForces.size()));
     dampRhs = dampMu = VecX<S>::Zero(R);
     smallT = VecX<S>::Zero(m.nDamping);
     smallM = MatX<S>::Zero(m.nDamping, m.nDamping);

@@ -59,6 +59,25 @@ type = "gravity"
 g = [0.0, -9.80665, 0.0]
 )";
 
+// One evaluation of the scene's rod (body 0) at (x, y), moving along the axis at v: its dy/dt, and the
+// bearing-friction element's outputs (N_u, N_l, F_f, s').
+struct LeverEval {
+  bool ok = false;
+  lg::VecX<double> ydot;
+  double out[4] = {0, 0, 0, 0};
+};
+LeverEval evaluateLever(const lg::Scene& sc, double x, double y, double v) {
+  const lg::Model<double>& m = sc.model;
+  lg::State<double> st = sc.initial;
+  lgtest::setBody(m, st, 0, Vec3<double>(x, y, 0), lg::Vec4<double>(1, 0, 0, 0), Vec3<double>(0, v, 0), Vec3<double>::Zero());
+  lg::Workspace<double> w(m);
+  LeverEval r;
+  r.ydot = lg::VecX<double>::Zero(m.ny());
+  r.ok = lg::evaluate(m, st.y, st.active, st.lambda, w, r.ydot);
+  std::get<lg::BearingFriction<double>>(m.forces[m.forceIndex("bearings")].type).outputs(w.kins(), r.out);
+  return r;
+}
+
 }  // namespace
 
 // The lever rule by hand: with z measured from the upper bearing along the axis (z_t of the load, z_l of
@@ -135,16 +154,10 @@ TEST_CASE("bearing friction: the lever case by hand", "[bearing_friction]") {
 TEST_CASE("bearing friction: the coupled lever case by hand, no convergence fails cleanly", "[bearing_friction]") {
   const std::string text = lgtest::replacedText(kLever, "position = [0.0, 0.2, 0.0]", "position = [0.1, 0.2, 0.0]");
   const lg::Scene sc = lgtest::inlineScene(text);
-  const lg::Model<double>& m = sc.model;
-  const auto& bf = std::get<lg::BearingFriction<double>>(m.forces[m.forceIndex("bearings")].type);
-  lg::State<double> st = sc.initial;
-  lgtest::setBody(m, st, 0, Vec3<double>(0.1, 0.2, 0), lg::Vec4<double>(1, 0, 0, 0), Vec3<double>(0, -1.0, 0),
-                  Vec3<double>::Zero());
-  lg::Workspace<double> w(m);
-  lg::VecX<double> ydot = lg::VecX<double>::Zero(m.ny());
-  REQUIRE(lg::evaluate(m, st.y, st.active, st.lambda, w, ydot));
-  double out[4];
-  bf.outputs(w.kins(), out);
+  LeverEval e = evaluateLever(sc, 0.1, 0.2, -1.0);
+  REQUIRE(e.ok);
+  const double* out = e.out;
+  lg::VecX<double>& ydot = e.ydot;
   const double P = 500.0, mu = 0.2, d = 0.1, zu = 0.8, zl = 0.4, Dz = zu - zl, sg = -1.0 / std::sqrt(1.0 + 1e-6);
   const double F = mu * sg * P * (2 * zu - Dz) / Dz / (1 - 2 * mu * sg * d / Dz);
   const double Nl = -(d * F + zu * P) / Dz, Nu = -P - Nl;
@@ -169,21 +182,14 @@ TEST_CASE("bearing friction: the coupled lever case by hand, no convergence fail
 TEST_CASE("bearing friction: the lever case with Gauss-Seidel multipliers", "[bearing_friction]") {
   lg::Scene sc = lgtest::inlineScene(kLever);
   sc.model.settings.solver = lg::MultiplierSolver::GaussSeidel;
-  const lg::Model<double>& m = sc.model;
-  const auto& bf = std::get<lg::BearingFriction<double>>(m.forces[m.forceIndex("bearings")].type);
-  lg::State<double> st = sc.initial;
-  lgtest::setBody(m, st, 0, Vec3<double>(0, 0.1, 0), lg::Vec4<double>(1, 0, 0, 0), Vec3<double>(0, -1.0, 0),
-                  Vec3<double>::Zero());
-  lg::Workspace<double> w(m);
-  lg::VecX<double> ydot = lg::VecX<double>::Zero(m.ny());
-  REQUIRE(lg::evaluate(m, st.y, st.active, st.lambda, w, ydot));
-  double out[4];
-  bf.outputs(w.kins(), out);
+  const LeverEval e = evaluateLever(sc, 0.0, 0.1, -1.0);
+  REQUIRE(e.ok);
+  const double* out = e.out;
   const double F = 0.2 * 1300.0 * -1.0 / std::sqrt(1.0 + 1e-6);
   CHECK(out[0] == Approx(400.0).epsilon(1e-8));  // the Gauss-Seidel tolerance (1e-9 of the right-hand side)
   CHECK(out[1] == Approx(900.0).epsilon(1e-8));
   CHECK(out[2] == Approx(F).epsilon(1e-8));
-  CHECK(ydot[7 + 1] == Approx(-kG - F / 10.0).epsilon(1e-8));
+  CHECK(e.ydot[7 + 1] == Approx(-kG - F / 10.0).epsilon(1e-8));
 }
 
 // The rod thrown down at 2 m/s slides to rest (the friction, up to 300 N, exceeds its weight) and creeps
@@ -283,14 +289,9 @@ TEST_CASE("bearing friction: a prismatic joint to the ground keeps its rows", "[
   const lg::Scene without = lgtest::inlineScene(plain);
   CHECK(without.model.rowOffset[without.model.constraintIndex("slide")] == -1);
   // The prismatic rod's lever case: the same reactions as with the sliding joint.
-  lg::State<double> st = with.initial;
-  lgtest::setBody(with.model, st, 0, Vec3<double>(0, 0.2, 0), lg::Vec4<double>(1, 0, 0, 0), Vec3<double>(0, -1.0, 0),
-                  Vec3<double>::Zero());
-  lg::Workspace<double> w(with.model);
-  lg::VecX<double> ydot = lg::VecX<double>::Zero(with.model.ny());
-  REQUIRE(lg::evaluate(with.model, st.y, st.active, st.lambda, w, ydot));
-  double out[4];
-  bf.outputs(w.kins(), out);
+  const LeverEval e = evaluateLever(with, 0.0, 0.2, -1.0);
+  REQUIRE(e.ok);
+  const double* out = e.out;
   CHECK(out[0] == Approx(500.0).epsilon(1e-12));
   CHECK(out[1] == Approx(1000.0).epsilon(1e-12));
 }
