@@ -181,6 +181,7 @@ template <class S> class DropObserver {
     const S t0 = prev_.t, t1 = s.t;
     channelsAt(t1, d, end_);
     channelsAt(S(0.5) * (t0 + t1), d, mid_);
+    ReactionsNeeded lazy(reaction_, false);  // from here only what reads P_a solves for the locks' reactions
     if (rateFromDense_) denseRates(t0, t1, d);
     const S h = t1 - t0;
     workPy_ += simpson(prev_.Py * prev_.hdot, mid_.Py * mid_.hdot, end_.Py * end_.hdot, h);
@@ -213,10 +214,12 @@ template <class S> class DropObserver {
       double tS = -1;
       if (refine(prev_.sdot[k], end_.sdot[k], t0, t1, d, [k](const Channels& c) { return c.s[k]; }, St.stroke_max, nullptr,
                  end_.s[k], t1, &tS)) {
+        ReactionsNeeded needed(reaction_, true);
         workPaAtMax_[k] = workPa_[k] - (tS >= 0 ? partialStrut(k, S(tS), t1, d) : S(0));
         F_.tStrokeMax = std::max(F_.tStrokeMax, tS < 0 ? value(t1) : tS);
       }
       // Peak P_a (no rate channel): searched on the dense output where the step may hold it.
+      ReactionsNeeded needed(reaction_, true);
       if (refineWithoutRate(prev_.Pa[k], mid_.Pa[k], end_.Pa[k], t0, t1, d, [k](const Channels& c) { return c.Pa[k]; },
                             St.force_max))
         F_.tStrutForceMax = value(t1);
@@ -241,6 +244,7 @@ template <class S> class DropObserver {
     F_.constraint_violation_max = std::max(F_.constraint_violation_max, viol);
     checkBottom(s);
     if (recording() && denseRows()) recordDense(m, value(t0), value(t1), s, d);
+    lazy.restore();
     at(s.t, s.y, s.active, s.slip, after_);  // after any jump at t1: the next step's start
     for (size_t k = 0; k < F_.struts.size(); ++k) F_.struts[k].force_max = maxByValue(F_.struts[k].force_max, after_.Pa[k]);
     if (recording() && !denseRows()) record(value(s.t), wo_, s.lambda, s.active, w);
@@ -319,6 +323,15 @@ template <class S> class DropObserver {
 
  private:
   static constexpr bool kDouble = std::is_same_v<S, double>;
+  // Whether channels read on the dense output need the stuck friction locks' reactions (a full evaluation
+  // each): set for a scope, restored at its end.
+  struct ReactionsNeeded {
+    bool& flag;
+    const bool saved;
+    ReactionsNeeded(bool& f, bool on) : flag(f), saved(f) { f = on; }
+    ~ReactionsNeeded() { flag = saved; }
+    void restore() { flag = saved; }
+  };
   bool recording() const {
     if constexpr (kDouble) return (rec_ && opt_.record) || rows_;
     else return rows_ != nullptr;
@@ -369,11 +382,13 @@ template <class S> class DropObserver {
   // read each strut's slip direction; with a stuck friction lock a full evaluation, for its reaction
   // (part of P_a), else the locks' reactions are 0; with bearing friction a full evaluation (its outputs
   // read the joint's multipliers).
+  // Without reaction_ (a search of a channel other than P_a) the stuck locks' reactions are left at 0:
+  // the other channels do not read them, and are the same bits either way.
   void at(const S& t, const VecX<S>& y, const std::vector<char>& active, const std::vector<signed char>& slip,
           Channels& c) {
     wo_.slip = slip;
     bool stuck = !m_.bearingForces.empty();
-    for (int r : lockRows_) stuck = stuck || active[r];
+    for (int r : lockRows_) stuck = stuck || (reaction_ && active[r]);
     if (stuck) {
       evaluate(m_, y, active, lambdaTmp_, wo_, ydotTmp_);
     } else {
@@ -442,6 +457,19 @@ template <class S> class DropObserver {
     // its peak, every step).
     if (std::max({a, m, b}) + std::abs(a - m) + std::abs(m - b) < value(best)) return false;
     const bool atStart = !endOnly && a >= m && a >= b, atMiddle = m > b && (endOnly || m > a);
+    if (atStart) {
+      // The largest sample at the start: the maximum is inside [t0, t_mid] only if the channel rises at t0
+      // (a forward difference on the dense output), else the start holds it. (A search that converges
+      // onto the step's start takes some thirty evaluations of the channel: a stuck strut's P_a.)
+      const double dt = 1e-3 * (value(t1) - value(t0));
+      channelsAt(S(value(t0) + dt), d, scratch_);
+      if (!(value(f(scratch_)) > a)) {
+        if (!(a > value(best))) return false;
+        best = v0;
+        if (tBest) *tBest = t0;
+        return true;
+      }
+    }
     if (atStart || atMiddle) {
       const S tb = atStart ? S(0.5) * (t0 + t1) : t1;
       return refine(S(1.0), S(-1.0), t0, tb, d, f, best, tBest, atStart ? v0 : vm, atStart ? t0 : S(0.5) * (t0 + t1));
@@ -643,6 +671,7 @@ template <class S> class DropObserver {
   std::vector<int> lockRows_;          // the friction-lock rows (exact Coulomb struts)
   std::vector<std::pair<int, int>> elementOut_;  // (output offset, count) of the bushings and bearing frictions
   int timeSlot_ = -1;
+  bool reaction_ = true;  // see ReactionsNeeded
   Channels prev_, end_, mid_, after_, scratch_;
   CaseFigures<S> F_;
   double e0_ = 0, ek0_ = 0, uExt0_ = 0;
