@@ -177,11 +177,30 @@ template <class S> inline S dotN(const S* a, const S* b, int len) {
   return s0 + s1;
 }
 template <class S> inline S dot6(const S* a, const S* b) { return dotN(a, b, 6); }
+// The same sums for a length known at compile time, unrolled (the short products of a sparse factor and
+// its solves: most are shorter than 8).
+template <int L> inline double dotFixed(const double* a, const double* b) {
+  double s0 = 0.0, s1 = 0.0;
+  for (int k = 0; k + 1 < L; k += 2) {
+    s0 += a[k] * b[k];
+    s1 += a[k + 1] * b[k + 1];
+  }
+  if constexpr (L % 2 == 1) s0 += a[L - 1] * b[L - 1];
+  return s0 + s1;
+}
 #ifdef __SSE2__
-inline double dotN(const double* a, const double* b, int len) {
-  // The short products of a sparse factor (most of its calls: length 0 or 1) without the vector set-up,
-  // the same sums as below: (0 + a0 b0) + 0.
-  if (len <= 1) return len == 0 ? 0.0 : (0.0 + a[0] * b[0]) + 0.0;
+__attribute__((always_inline)) inline double dotN(const double* a, const double* b, int len) {
+  switch (len) {  // the short products without the vector set-up
+    case 0: return 0.0;
+    case 1: return dotFixed<1>(a, b);
+    case 2: return dotFixed<2>(a, b);
+    case 3: return dotFixed<3>(a, b);
+    case 4: return dotFixed<4>(a, b);
+    case 5: return dotFixed<5>(a, b);
+    case 6: return dotFixed<6>(a, b);
+    case 7: return dotFixed<7>(a, b);
+    default: break;
+  }
   __m128d acc = _mm_setzero_pd();
   int k = 0;
   for (; k + 1 < len; k += 2) acc = _mm_add_pd(acc, _mm_mul_pd(_mm_loadu_pd(a + k), _mm_loadu_pd(b + k)));
