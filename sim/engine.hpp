@@ -72,18 +72,31 @@ template <class S> void forces(const Model<S>& m, Workspace<S>& w) {
 }
 
 // ---- stage: constraint rows ----------------------------------------------------------------------
+// Which rows an evaluation writes: all (its event functions follow) or those its solve reads.
+enum class RowsFor { Events, Solve };
+
+// Are the rows of unilateral constraint c all free in this mode (never for a bilateral one)?
+template <class S> bool freeRows(const Model<S>& m, const std::vector<char>& enforced, int c) {
+  for (int k = m.rowOffset[c]; k < m.nRows && m.rowInfo[k].constraint == c; ++k)
+    if (!m.rowInfo[k].unilateral || enforced[k]) return false;
+  return true;
+}
+
 // Every row at the current kinematics: the constraints', then the friction locks of the force elements
-// (written whether enforced or not: a slipping lock's J V is the rate its slip event watches).
-template <class S> void constraintRows(const Model<S>& m, Workspace<S>& w) {
+// (written whether enforced or not: a slipping lock's J V is the rate its slip event watches). With
+// 'enforced' only the rows a solve in that mode reads: a free stop's or a slipping lock's row is left
+// as it was (the stages of a step, whose event functions are taken at its end, and the projections).
+template <class S> void constraintRows(const Model<S>& m, Workspace<S>& w, const std::vector<char>* enforced = nullptr) {
   ScopedStage timer(w.timer, kRows, m.settings.profile);
   const Kins<S> K = w.kins();
   for (size_t c = 0; c < m.constraints.size(); ++c) {
     if (m.rowOffset[c] < 0) continue;  // a joint to the ground eliminated into its body's mobility
+    if (enforced && freeRows(m, *enforced, static_cast<int>(c))) continue;
     Row<S>* rows = w.rows.data() + m.rowOffset[c];
     std::visit([&](const auto& con) { con.write(K[con.bi], K[con.bj], rows); }, m.constraints[c].type);
   }
   for (size_t f = 0; f < m.forces.size(); ++f) {
-    if (m.lockRow[f] < 0) continue;
+    if (m.lockRow[f] < 0 || (enforced && !(*enforced)[m.lockRow[f]])) continue;
     Row<S>& row = w.rows[m.lockRow[f]];
     std::visit([&](const auto& e) { if constexpr (requires { e.writeLock(K, row); }) e.writeLock(K, row); },
                m.forces[f].type);
@@ -258,11 +271,11 @@ template <class S> void dampingResponse(const Model<S>& m, Workspace<S>& w) {
 // ---- the right-hand side: dy/dt ------------------------------------------------------------------
 // Runs kinematics, forces, rows, multipliers; writes ydot (x rates, accelerations, dissipation rates).
 template <class S> bool evaluate(const Model<S>& m, const VecX<S>& y, const std::vector<char>& active,
-                                 VecX<S>& lambda, Workspace<S>& w, VecX<S>& ydot) {
+                                 VecX<S>& lambda, Workspace<S>& w, VecX<S>& ydot, RowsFor rowsFor = RowsFor::Events) {
   ++w.rhsEvaluations;
   kinematics(m, y, w);
   forces(m, w);
-  constraintRows(m, w);
+  constraintRows(m, w, rowsFor == RowsFor::Solve ? &active : nullptr);
   const bool ok = multipliers(m, active, lambda, w) && bearingFriction(m, lambda, w);
   const int N = m.nBodies();
   for (int b = 0; b < N; ++b) {
@@ -394,7 +407,7 @@ template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w,
   bool current = false;  // kinematics and rows at the final positions
   for (int it = 0; it < 8; ++it) {
     kinematics(m, s.y, w);
-    constraintRows(m, w);
+    constraintRows(m, w, &s.active);
     double pos, vel;
     violation(m, s.active, w, pos, vel);
     if (pos <= 0.01 * tol) {
@@ -409,7 +422,7 @@ template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w,
   if (projectMobility(m, s.y)) current = false;
   if (!current) {
     kinematics(m, s.y, w);
-    constraintRows(m, w);
+    constraintRows(m, w, &s.active);
   }
   if (factored) computeW(m, w);     // the correction directions at the final positions
   else if (!factorOnce()) return false;  // (no position iteration: W and the factor are current)

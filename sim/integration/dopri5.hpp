@@ -27,7 +27,7 @@ template <class S> bool stepDopri(StepContext<S>& c, double h, double& hNext, Ru
         for (int j = 0; j < i; ++j)
           if (dopri::a[i][j] != 0) c.w.ytmp += S(h * dopri::a[i][j]) * k[j];
       }
-      ok = evaluate(c.m, c.w.ytmp, c.s.active, c.s.lambda, c.w, k[i]) && ok;
+      ok = evaluate(c.m, c.w.ytmp, c.s.active, c.s.lambda, c.w, k[i], i < 6 ? RowsFor::Solve : RowsFor::Events) && ok;
     }
     // y1 = ytmp after stage 7 (a[6] = b), k[6] = f(y1) (FSAL).
     double err = 0;

@@ -29,7 +29,7 @@ template <class S> bool stepFixed(StepContext<S>& c, double h, RunStatus& st) {
         ScopedStage timer(c.w.timer, kIntegrate, cfg.profile);
         c.w.ytmp = c.w.y0 + S(ci * h) * k[i - 1];
       }
-      ok = evaluate(c.m, c.w.ytmp, c.s.active, c.s.lambda, c.w, k[i]) && ok;
+      ok = evaluate(c.m, c.w.ytmp, c.s.active, c.s.lambda, c.w, k[i], RowsFor::Solve) && ok;
     };
     stage(1, 0.5);
     stage(2, 0.5);

@@ -100,7 +100,7 @@ template <class S> bool stepRosenbrock(StepContext<S>& c, const RosenbrockTablea
           for (int j = 0; j < i; ++j)
             if (tab.A[i][j] != 0) c.w.ytmp += S(tab.A[i][j]) * k[1 + j];
         }
-        ok = evaluate(c.m, c.w.ytmp, c.s.active, c.s.lambda, c.w, U) && ok;
+        ok = evaluate(c.m, c.w.ytmp, c.s.active, c.s.lambda, c.w, U, RowsFor::Solve) && ok;
       }
       ScopedStage timer(c.w.timer, kIntegrate, cfg.profile);
       for (int j = 0; j < i; ++j)
