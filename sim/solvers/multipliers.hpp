@@ -10,6 +10,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
+#include <utility>
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
@@ -179,8 +181,8 @@ template <class S> inline S dotN(const S* a, const S* b, int len) {
 template <class S> inline S dot6(const S* a, const S* b) { return dotN(a, b, 6); }
 // The same sums for a length known at compile time, unrolled (the short products of a sparse factor and
 // its solves: most are shorter than 8).
-template <int L> inline double dotFixed(const double* a, const double* b) {
-  double s0 = 0.0, s1 = 0.0;
+template <int L, class S> inline S dotFixed(const S* a, const S* b) {
+  S s0(0), s1(0);
   for (int k = 0; k + 1 < L; k += 2) {
     s0 += a[k] * b[k];
     s1 += a[k + 1] * b[k + 1];
@@ -218,6 +220,25 @@ inline double dot6(const double* a, const double* b) {
   return s[0] + s[1];
 }
 #endif
+
+// Runs f(std::integral_constant<int, W>) for the width W = 'width' when 1 <= width <= kMaxFixedWidth (code
+// compiled for that width: its loops unrolled, no dispatch per dot product), else f with W = 0 (the
+// loops of run-time length).
+constexpr int kMaxFixedWidth = 16;
+template <class F> inline void withWidth(int width, F&& f) {
+  [&]<int... W>(std::integer_sequence<int, W...>) {
+    const bool fixed = ((width == W + 1 ? (f(std::integral_constant<int, W + 1>{}), true) : false) || ...);
+    if (!fixed) f(std::integral_constant<int, 0>{});
+  }(std::make_integer_sequence<int, kMaxFixedWidth>{});
+}
+
+// One row r of a triangular solve of fixed width W against the rows of L at rowAt[0..W):
+// r[j] = (r[j] - r[0..j) . L(rowAt[j])[0..j)) invDiag[j], j = 0..W-1 in turn (the same sums as dotN).
+template <int W, class S> inline void triangularRow(S* r, const S* L, const int* rowAt, const S* invDiag) {
+  [&]<int... J>(std::integer_sequence<int, J...>) {
+    ((r[J] = (r[J] - dotFixed<J>(r, L + rowAt[J])) * invDiag[J]), ...);
+  }(std::make_integer_sequence<int, W>{});
+}
 
 // The factor's structure for work.list, saved in / restored from the workspace's small cache.
 template <class S> void saveStructure(Workspace<S>& w) {
@@ -322,22 +343,31 @@ template <class S> bool factorA(Workspace<S>& w) {
   const int nSuper = static_cast<int>(w.superStart.size()) - 1;
   for (int K = 0; K < nSuper; ++K) {
     const int c0 = w.superStart[K], c1 = w.superStart[K + 1], width = c1 - c0;
+    const int* rowAt = w.rowAt.data() + c0;
+    const S* invDiag = w.invDiag.data() + c0;
     for (int i = c0; i < c1; ++i) {  // (1) the diagonal block
       S* Li = L + w.rowAt[i];        // Li[k] = L(i, c0 + k)
-      for (int j = c0; j < i; ++j) Li[j - c0] = (Li[j - c0] - dotN(Li, L + w.rowAt[j], j - c0)) * w.invDiag[j];
+      withWidth(i - c0, [&](auto fixed) {
+        if constexpr (fixed > 0) triangularRow<fixed>(Li, L, rowAt, invDiag);
+        else for (int j = c0; j < i; ++j) Li[j - c0] = (Li[j - c0] - dotN(Li, L + w.rowAt[j], j - c0)) * w.invDiag[j];
+      });
       const S d = Li[i - c0] - dotN(Li, Li, i - c0);
       if (!(value(d) > 0)) return false;
       Li[i - c0] = sqrt(d);
       w.invDiag[i] = S(1) / Li[i - c0];
     }
-    for (int q = w.superRowStart[K]; q < w.superRowStart[K + 1]; ++q) {  // (2) the rows below
-      S* Lr = L + w.superRowAt[q];
-      for (int j = c0; j < c1; ++j) Lr[j - c0] = (Lr[j - c0] - dotN(Lr, L + w.rowAt[j], j - c0)) * w.invDiag[j];
-    }
-    for (int u = w.updateStart[K]; u < w.updateStart[K + 1]; ++u) {  // (3) the update below
-      const FactorUpdate& up = w.updates[u];
-      L[up.dst] -= dotN(L + up.a, L + up.b, width);
-    }
+    withWidth(width, [&](auto fixed) {
+      for (int q = w.superRowStart[K]; q < w.superRowStart[K + 1]; ++q) {  // (2) the rows below
+        S* Lr = L + w.superRowAt[q];
+        if constexpr (fixed > 0) triangularRow<fixed>(Lr, L, rowAt, invDiag);
+        else for (int j = c0; j < c1; ++j) Lr[j - c0] = (Lr[j - c0] - dotN(Lr, L + w.rowAt[j], j - c0)) * w.invDiag[j];
+      }
+      for (int u = w.updateStart[K]; u < w.updateStart[K + 1]; ++u) {  // (3) the update below
+        const FactorUpdate& up = w.updates[u];
+        if constexpr (fixed > 0) L[up.dst] -= dotFixed<fixed>(L + up.a, L + up.b);
+        else L[up.dst] -= dotN(L + up.a, L + up.b, width);
+      }
+    });
   }
   return true;
 }
@@ -353,23 +383,39 @@ template <class S> void solveA(Workspace<S>& w, VecX<S>& x) {
   const int nSuper = static_cast<int>(w.superStart.size()) - 1;
   for (int K = 0; K < nSuper; ++K) {  // L z = y
     const int c0 = w.superStart[K], c1 = w.superStart[K + 1];
-    for (int i = c0; i < c1; ++i) y[i] = (y[i] - dotN(L + w.rowAt[i], y + c0, i - c0)) * w.invDiag[i];
-    for (int q = w.superRowStart[K]; q < w.superRowStart[K + 1]; ++q)
-      y[w.superRows[q]] -= dotN(L + w.superRowAt[q], y + c0, c1 - c0);
+    withWidth(c1 - c0, [&](auto fixed) {
+      if constexpr (fixed > 0) {
+        const int* rowAt = w.rowAt.data() + c0;
+        const S* invDiag = w.invDiag.data() + c0;
+        [&]<int... I>(std::integer_sequence<int, I...>) {
+          ((y[c0 + I] = (y[c0 + I] - dotFixed<I>(L + rowAt[I], y + c0)) * invDiag[I]), ...);
+        }(std::make_integer_sequence<int, fixed>{});
+      } else {
+        for (int i = c0; i < c1; ++i) y[i] = (y[i] - dotN(L + w.rowAt[i], y + c0, i - c0)) * w.invDiag[i];
+      }
+      for (int q = w.superRowStart[K]; q < w.superRowStart[K + 1]; ++q) {
+        if constexpr (fixed > 0) y[w.superRows[q]] -= dotFixed<fixed>(L + w.superRowAt[q], y + c0);
+        else y[w.superRows[q]] -= dotN(L + w.superRowAt[q], y + c0, c1 - c0);
+      }
+    });
   }
   for (int K = nSuper - 1; K >= 0; --K) {  // L^T u = z
     const int c0 = w.superStart[K], c1 = w.superStart[K + 1];
-    for (int q = w.superRowStart[K]; q < w.superRowStart[K + 1]; ++q) {
-      const S* Lr = L + w.superRowAt[q];
-      const S yr = y[w.superRows[q]];
-      for (int j = c0; j < c1; ++j) y[j] -= Lr[j - c0] * yr;
-    }
-    for (int i = c1 - 1; i >= c0; --i) {
-      const S* Li = L + w.rowAt[i];
-      const S yi = y[i] * w.invDiag[i];
-      y[i] = yi;
-      for (int k = c0; k < i; ++k) y[k] -= Li[k - c0] * yi;
-    }
+    withWidth(c1 - c0, [&](auto fixed) {
+      constexpr int W = fixed;
+      const int width = W > 0 ? W : c1 - c0;
+      for (int q = w.superRowStart[K]; q < w.superRowStart[K + 1]; ++q) {
+        const S* Lr = L + w.superRowAt[q];
+        const S yr = y[w.superRows[q]];
+        for (int j = 0; j < width; ++j) y[c0 + j] -= Lr[j] * yr;
+      }
+      for (int i = width - 1; i >= 0; --i) {
+        const S* Li = L + w.rowAt[c0 + i];
+        const S yi = y[c0 + i] * w.invDiag[c0 + i];
+        y[c0 + i] = yi;
+        for (int k = 0; k < i; ++k) y[c0 + k] -= Li[k] * yi;
+      }
+    });
   }
   for (int t = 0; t < n; ++t) x[w.order[t]] = y[t];
 }
