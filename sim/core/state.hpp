@@ -48,7 +48,8 @@ struct StageTimer {
 // One term of J M^-1 J^T: A[target] += J_k(side) . W_l(side), target being the flat index of the
 // entry in the solver's storage (see assembleA). The sides are those of the term's group in pairs.
 struct PairTerm {
-  int target, k, l;
+  int target;  // flat index into the envelope of A
+  int j, w;    // byte offsets of row k's J block (Ji or Jj) in the rows and of row l's W block in Wi or Wj
 };
 
 // One update of the supernodal factor: L[dst] -= L[a .. a + width) . L[b .. b + width) (flat indices).

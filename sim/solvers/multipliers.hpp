@@ -240,6 +240,12 @@ template <int W, class S> inline void triangularRow(S* r, const S* L, const int*
   }(std::make_integer_sequence<int, W>{});
 }
 
+// The distance in bytes from an array's start to an element of it (the terms of A address the rows and
+// W by offsets, so a copied workspace's terms stay valid).
+template <class T, class U> int byteOffset(const T* base, const U* at) {
+  return static_cast<int>(reinterpret_cast<const char*>(at) - reinterpret_cast<const char*>(base));
+}
+
 // The factor's structure for work.list, saved in / restored from the workspace's small cache.
 template <class S> void saveStructure(Workspace<S>& w) {
   FactorStructure& c = w.structureCache[w.structureNext];
@@ -309,7 +315,11 @@ template <class S> void assembleA(const Model<S>& m, Workspace<S>& w) {
           const RowInfo& rl = m.rowInfo[w.list[c]];
           if (bk != (sideL ? rl.bj : rl.bi)) continue;
           const int pa = w.pos[a], pc = w.pos[c];
-          w.pairs.push_back({flatIndexA(w, std::max(pa, pc), std::min(pa, pc)), w.list[a], w.list[c]});
+          const Row<S>& row = w.rows[w.list[a]];
+          const Vec6<S>* Wside = sideL ? w.Wj.data() : w.Wi.data();
+          w.pairs.push_back({flatIndexA(w, std::max(pa, pc), std::min(pa, pc)),
+                             byteOffset(w.rows.data(), (sideK ? row.Jj : row.Ji).data()),
+                             byteOffset(Wside, Wside[w.list[c]].data())});
         }
       }
     }
@@ -318,14 +328,17 @@ template <class S> void assembleA(const Model<S>& m, Workspace<S>& w) {
   }
   S* A = w.L.data();
   for (int e = 0; e < w.envStart[n]; ++e) A[e] = S(0);
-  const Row<S>* rows = w.rows.data();
-  const Vec6<S>* Wi = w.Wi.data();
-  const Vec6<S>* Wj = w.Wj.data();
   const PairTerm* P = w.pairs.data();
-  for (int p = w.pairGroup[0]; p < w.pairGroup[1]; ++p) A[P[p].target] += dot6(rows[P[p].k].Ji.data(), Wi[P[p].l].data());
-  for (int p = w.pairGroup[1]; p < w.pairGroup[2]; ++p) A[P[p].target] += dot6(rows[P[p].k].Ji.data(), Wj[P[p].l].data());
-  for (int p = w.pairGroup[2]; p < w.pairGroup[3]; ++p) A[P[p].target] += dot6(rows[P[p].k].Jj.data(), Wi[P[p].l].data());
-  for (int p = w.pairGroup[3]; p < w.pairGroup[4]; ++p) A[P[p].target] += dot6(rows[P[p].k].Jj.data(), Wj[P[p].l].data());
+  auto terms = [&](int g, const Vec6<S>* Wside) {  // the group's J blocks . W blocks, by their byte offsets
+    const char* J = reinterpret_cast<const char*>(w.rows.data());
+    const char* Wb = reinterpret_cast<const char*>(Wside);
+    for (int p = w.pairGroup[g]; p < w.pairGroup[g + 1]; ++p)
+      A[P[p].target] += dot6(reinterpret_cast<const S*>(J + P[p].j), reinterpret_cast<const S*>(Wb + P[p].w));
+  };
+  terms(0, w.Wi.data());
+  terms(1, w.Wj.data());
+  terms(2, w.Wi.data());
+  terms(3, w.Wj.data());
   if (!direct)  // Gauss-Seidel sweeps the dense matrix (list order = elimination order there)
     for (int c = 0; c < n; ++c)
       for (int a = c; a < n; ++a) w.A(a, c) = w.A(c, a) = entryA(w, a, c);
