@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <string_view>
 
 #include "sim/drop_gradient.hpp"
 #include "sim/parameters.hpp"
@@ -57,7 +58,7 @@ std::vector<double> referenceDerivatives(const lg::Scene& sc, const lg::DropCase
   const auto metrics = lg::gradientMetrics();
   std::vector<double> out(est[0].size());
   for (size_t i = 0; i < out.size(); ++i) {
-    const size_t first = metrics[i].name == "t_peak" ? 0 : 1;
+    const size_t first = std::string_view(metrics[i].name) == "t_peak" ? 0 : 1;
     std::vector<double> v{est[first][i], est[first + 1][i], est[first + 2][i]};
     std::sort(v.begin(), v.end());
     out[i] = v[1];

@@ -4,6 +4,7 @@
 #include "sim/drop_test.hpp"
 #include "tests/sim/engine_support.hpp"  // includes Catch after the sim headers (see there)
 
+using lgtest::inlineScene;
 using lgtest::report;
 
 // Gauss-Seidel, started from zero and iterated to a relative update of 1e-15, gives the direct
@@ -119,5 +120,68 @@ TEST_CASE("the sparse factor of J M^-1 J^T solves like a dense Cholesky, with fe
            denseMadds, err);
     CHECK(err < 1e-12);
     CHECK(2 * madds < denseMadds);
+  }
+}
+
+// The factor and the solves run code compiled for a supernode's width up to 16 and loops of run-time
+// length beyond. A hub with K leaves on revolute hinges: every one of the 5 K rows touches the hub, so
+// J M^-1 J^T is dense and its factor one supernode of width 5 K: K = 3 (15, compiled) and K = 4 (20,
+// run-time), each against a dense Cholesky of the same matrix. Measured: 15 rows agree to 1.6e-16,
+// 20 rows to 2.6e-16 (relative); asserted 1e-13.
+TEST_CASE("the factor of J M^-1 J^T is right for supernodes of compiled and of run-time width", "[solvers][multipliers]") {
+  for (int K : {3, 4}) {
+    std::string toml = R"(
+[[body]]
+name = "hub"
+mass = 10.0
+inertia = [1.0, 1.5, 2.0]
+position = [0.0, 0.0, 0.0]
+x_axis = [0.8, 0.6, 0.0]
+)";
+    for (int k = 0; k < K; ++k) {
+      const double th = 2.0 * M_PI * k / K, c = std::cos(th), s = std::sin(th);
+      char text[768];
+      std::snprintf(text, sizeof text, R"(
+[[body]]
+name = "leaf%d"
+mass = %g
+inertia = [0.2, 0.3, 0.25]
+position = [%.17g, %.17g, %.17g]
+
+[[joint]]
+name = "hinge%d"
+type = "revolute"
+body1 = "leaf%d"
+body2 = "hub"
+point = [%.17g, %.17g, 0.0]
+axis = [%.17g, %.17g, 0.6]
+)",
+                    k, 1.0 + k, 1.2 * c, 1.2 * s, 0.1 * k, k, k, 0.7 * c, 0.7 * s, -s, c);
+      toml += text;
+    }
+    const lg::Scene sc = inlineScene(toml);
+    const lg::Model<double>& m = sc.model;
+    lg::Workspace<double> w(m);
+    lg::kinematics(m, sc.initial.y, w);
+    lg::constraintRows(m, w);
+    lg::listActiveRows(m, sc.initial.active, w);
+    lg::computeW(m, w);
+    lg::assembleA(m, w);
+    const int n = static_cast<int>(w.list.size());
+    REQUIRE(n == 5 * K);
+    int widest = 0;
+    for (size_t q = 0; q + 1 < w.superStart.size(); ++q) widest = std::max(widest, w.superStart[q + 1] - w.superStart[q]);
+    CHECK(widest == n);
+    Eigen::MatrixXd dense(n, n);
+    for (int a = 0; a < n; ++a)
+      for (int c = 0; c < n; ++c) dense(a, c) = lg::entryA(w, a, c);
+    lg::VecX<double> x(m.nRows);
+    for (int a = 0; a < n; ++a) x[a] = std::cos(0.3 + 2.1 * a) * std::pow(10.0, (a % 3) - 1);
+    const Eigen::VectorXd ref = dense.llt().solve(x.head(n));
+    REQUIRE(lg::factorA(w));
+    lg::solveA(w, x);
+    const double err = (x.head(n) - ref).cwiseAbs().maxCoeff() / ref.cwiseAbs().maxCoeff();
+    report("%d rows in one supernode of width %d: the solution agrees with a dense Cholesky to %.1e", n, widest, err);
+    CHECK(err < 1e-13);
   }
 }
