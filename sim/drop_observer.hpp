@@ -443,9 +443,10 @@ template <class S> class DropObserver {
   }
 
   // A running maximum of a channel without a rate: from its values at the step's start, middle and
-  // end, the step is searched (Brent's search on values) where its largest sample is inside or at the
-  // start (a maximum just after the start, or the one carried over from the previous step, lies in
-  // [t0, t_mid]); a largest value at the end is taken there, and the next step looks further.
+  // end, the step is searched (Brent's search on values) where its largest sample is inside, or at the
+  // start if the channel rises there (a maximum just after the start, or the one carried over from the
+  // previous step, lies in [t0, t_mid]; one that falls at the start has its maximum there); a largest
+  // value at the end is taken there, and the next step looks further.
   // 'endOnly' (a step entered part-way): only the middle and end samples count.
   // Returns true if the maximum moved.
   template <class F>
