@@ -107,6 +107,8 @@ template <class S> struct Workspace {
   std::vector<PairTerm> pairs;       // terms of J M^-1 J^T for that list, grouped by the sides (i/j)
   std::array<int, 5> pairGroup{};    // of the two rows: terms [pairGroup[g], pairGroup[g+1]) have sides (g/2, g%2)
   std::vector<int> order, pos;       // elimination order of the factor (order[t]: list index; pos: inverse)
+  std::vector<char> adjacency, eliminated;  // analyseA's scratch: the coupling of two rows (n x n), eliminated rows
+  std::vector<int> degree;           // and each row's number of uneliminated neighbours
   std::vector<int> below, belowStart;  // symbolic factor: the positions t' > t with L(t', t) != 0
   std::vector<int> envFirst, envStart;  // envelope of the direct factor: row t holds L(t, envFirst[t]..t) from L[envStart[t]]
   VecX<S> L, invDiag;                // the packed envelope (A, then its factor), 1 / L(t, t)
@@ -118,6 +120,10 @@ template <class S> struct Workspace {
   std::array<FactorStructure, 4> structureCache;  // recently analysed row lists (filled at mode switches)
   int structureNext = 0;                           // the cache entry to overwrite next
   VecX<S> permTmp;                   // a right-hand side in elimination order
+  MatX<S> lcpA, lcpAs;               // the contact LCP (mode switches): A over 'list', its block of the rows in
+  VecX<S> lcpB, lcpLam, lcpX, lcpGap;  // its right-hand side, multipliers, the block's solution, A lambda - b
+  std::vector<char> lcpIn;           // per list entry: in the active set
+  std::vector<int> lcpIdx;           // the list entries in it
   SolveReport report;
   StageTimer timer;
   long rhsEvaluations = 0;
@@ -162,9 +168,16 @@ template <class S> struct Workspace {
     pairs.reserve(static_cast<size_t>(2 * R * (R + 1)));
     order.reserve(R);
     pos.reserve(R);
+    adjacency.assign(static_cast<size_t>(R) * R, 0);
+    eliminated.assign(R, 0);
+    degree.assign(R, 0);
     below.reserve(static_cast<size_t>(R * R));
     belowStart.reserve(R + 1);
     permTmp = VecX<S>::Zero(R);
+    lcpA = lcpAs = MatX<S>::Zero(R, R);
+    lcpB = lcpLam = lcpX = lcpGap = VecX<S>::Zero(R);
+    lcpIn.assign(R, 0);
+    lcpIdx.reserve(R);
     envFirst.reserve(R);
     envStart.reserve(R + 1);
     envStart.assign(1, 0);  // the structure of an empty row list (analyseA rebuilds it when the list changes)

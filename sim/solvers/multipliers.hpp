@@ -58,50 +58,59 @@ template <class S> void computeW(const Model<S>& m, Workspace<S>& w) {
 // dot products (no index per multiply-add).
 template <class S> void analyseA(const Model<S>& m, Workspace<S>& w) {
   const int n = static_cast<int>(w.list.size());
-  std::vector<std::vector<char>> adj(n, std::vector<char>(n, 0));  // mode switches only
+  char* adj = w.adjacency.data();  // adj[a n + c]: rows a and c couple (shared body, or fill)
   for (int a = 0; a < n; ++a) {
     const RowInfo& ra = m.rowInfo[w.list[a]];
     for (int c = 0; c < n; ++c) {
       const RowInfo& rc = m.rowInfo[w.list[c]];
-      adj[a][c] = a != c && ((ra.bi >= 0 && (ra.bi == rc.bi || ra.bi == rc.bj)) ||
-                             (ra.bj >= 0 && (ra.bj == rc.bi || ra.bj == rc.bj)));
+      adj[a * n + c] = a != c && ((ra.bi >= 0 && (ra.bi == rc.bi || ra.bi == rc.bj)) ||
+                                  (ra.bj >= 0 && (ra.bj == rc.bi || ra.bj == rc.bj)));
     }
   }
+  // Minimum degree with the degrees kept current: an elimination lowers its neighbours' by one, and
+  // each fill entry raises its row's.
+  std::vector<char>& done = w.eliminated;
+  std::vector<int>& degree = w.degree;
+  for (int a = 0; a < n; ++a) {
+    done[a] = 0;
+    degree[a] = 0;
+    for (int c = 0; c < n; ++c) degree[a] += adj[a * n + c];
+  }
   w.order.clear();
-  std::vector<char> done(n, 0);
+  w.below.clear();  // first the cliques in list indices: below[belowStart[t] ..) for the pivot of step t
+  w.belowStart.assign(1, 0);
   const bool minDegree = m.settings.solver == MultiplierSolver::Direct;
-  std::vector<std::vector<int>> cliques(n);
   for (int t = 0; t < n; ++t) {
-    int best = -1, bestDeg = 0;
-    for (int a = 0; a < n && (minDegree || best < 0); ++a) {
-      if (done[a]) continue;
-      int deg = 0;
-      for (int c = 0; c < n; ++c) deg += (!done[c] && adj[a][c]) ? 1 : 0;
-      if (best < 0 || deg < bestDeg) {
-        best = a;
-        bestDeg = deg;
-      }
-    }
+    int best = -1;
+    for (int a = 0; a < n && (minDegree || best < 0); ++a)
+      if (!done[a] && (best < 0 || degree[a] < degree[best])) best = a;
     done[best] = 1;
     w.order.push_back(best);
+    const size_t first = w.below.size();
     for (int c = 0; c < n; ++c)
-      if (!done[c] && adj[best][c]) cliques[t].push_back(c);
-    for (int a : cliques[t])
-      for (int c : cliques[t])
-        if (a != c) adj[a][c] = 1;
+      if (!done[c] && adj[best * n + c]) {
+        w.below.push_back(c);
+        --degree[c];
+      }
+    for (size_t qa = first; qa < w.below.size(); ++qa)
+      for (size_t qc = first; qc < w.below.size(); ++qc) {
+        const int a = w.below[qa], c = w.below[qc];
+        if (a != c && !adj[a * n + c]) {
+          adj[a * n + c] = 1;
+          ++degree[a];
+        }
+      }
+    w.belowStart.push_back(static_cast<int>(w.below.size()));
   }
   w.pos.assign(n, 0);
   for (int t = 0; t < n; ++t) w.pos[w.order[t]] = t;
-  w.below.clear();
-  w.belowStart.assign(1, 0);
   w.envFirst.assign(n, 0);
   for (int t = 0; t < n; ++t) w.envFirst[t] = t;
-  for (int t = 0; t < n; ++t) {
-    const size_t first = w.below.size();
-    for (int c : cliques[t]) w.below.push_back(w.pos[c]);
-    std::sort(w.below.begin() + static_cast<long>(first), w.below.end());
-    w.belowStart.push_back(static_cast<int>(w.below.size()));
-    for (size_t q = first; q < w.below.size(); ++q) w.envFirst[w.below[q]] = std::min(w.envFirst[w.below[q]], t);
+  for (int t = 0; t < n; ++t) {  // the cliques in positions, ascending: the structure below each pivot
+    const int first = w.belowStart[t], last = w.belowStart[t + 1];
+    for (int q = first; q < last; ++q) w.below[q] = w.pos[w.below[q]];
+    std::sort(w.below.begin() + first, w.below.begin() + last);
+    for (int q = first; q < last; ++q) w.envFirst[w.below[q]] = std::min(w.envFirst[w.below[q]], t);
   }
   w.envStart.assign(n + 1, 0);
   for (int t = 0; t < n; ++t) w.envStart[t + 1] = w.envStart[t] + (t - w.envFirst[t] + 1);
@@ -519,20 +528,25 @@ template <class S> bool solveLcp(const Model<S>& m, Workspace<S>& w) {
     return solveEquality(m, w, /*projectUnilateral=*/true);
   }
   // Active set with pivoting: start with every row in; drop the most negative unilateral multiplier,
-  // add back the most violated dropped row, until both conditions hold.
-  MatX<S> A0(n, n);  // (mode switches only: not in the step's hot path)
+  // add back the most violated dropped row, until both conditions hold. (In the workspace's buffers: the
+  // top-left n x n block of A0, the na x na block of As.)
+  MatX<S>& A0 = w.lcpA;
   for (int a = 0; a < n; ++a)
     for (int c = 0; c < n; ++c) A0(a, c) = entryA(w, a, c);
-  VecX<S> b0 = w.b.head(n);
-  std::vector<char> in(n, 1);
-  VecX<S> lam = VecX<S>::Zero(n);
+  auto b0 = w.lcpB.head(n);
+  b0 = w.b.head(n);
+  std::vector<char>& in = w.lcpIn;
+  std::fill(in.begin(), in.begin() + n, char(1));
+  auto lam = w.lcpLam.head(n);
+  lam.setZero();
   for (int iter = 0; iter < 4 * n + 8; ++iter) {
-    std::vector<int> idx;
+    std::vector<int>& idx = w.lcpIdx;
+    idx.clear();
     for (int a = 0; a < n; ++a)
       if (in[a]) idx.push_back(a);
     const int na = static_cast<int>(idx.size());
-    MatX<S> As(na, na);
-    VecX<S> x(na);
+    MatX<S>& As = w.lcpAs;
+    VecX<S>& x = w.lcpX;
     for (int a = 0; a < na; ++a) {
       x[a] = b0[idx[a]];
       for (int c = 0; c < na; ++c) As(a, c) = A0(idx[a], idx[c]);
@@ -552,7 +566,9 @@ template <class S> bool solveLcp(const Model<S>& m, Workspace<S>& w) {
       in[worst] = 0;
       continue;
     }
-    const VecX<S> gap = A0 * lam - b0;  // >= 0 required for the rows left out
+    auto gap = w.lcpGap.head(n);  // >= 0 required for the rows left out
+    gap.noalias() = A0.topLeftCorner(n, n) * lam;
+    gap -= b0;
     double tol = 1e-12 * (b0.cwiseAbs().maxCoeff() == S(0) ? 1.0 : value(b0.cwiseAbs().maxCoeff()));
     for (int a = 0; a < n; ++a)
       if (!in[a] && value(gap[a]) < -tol && value(gap[a]) < worstVal) {
