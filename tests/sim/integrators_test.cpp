@@ -123,11 +123,11 @@ namespace {
 // and notes the first step that ends on the stop.
 struct PeakWatch {
   double xMax = -1e300, xStop = 0, tHit = -1;  // tHit: the end of the first step that ends on the stop
-  template <class S> void onStart(const lg::Model<S>&, const lg::State<S>& s, lg::Workspace<S>&) { xMax = s.y[0]; }
-  template <class S>
-  void onStep(const lg::Model<S>&, const lg::State<S>& s, lg::Workspace<S>&, const lg::DenseOutput<S>& d) {
+  lg::VecX<double> y;                           // the dense output's samples
+  void onStart(const lg::Model<double>&, const lg::State<double>& s, lg::Workspace<double>&) { xMax = s.y[0]; }
+  void onStep(const lg::Model<double>&, const lg::State<double>& s, lg::Workspace<double>&, const lg::DenseOutput<double>& d) {
     if (tHit < 0 && std::abs(s.y[0] - xStop) < 1e-6) tHit = s.t;
-    lg::VecX<S> y(d.y0->size());
+    y.resize(d.y0->size());
     for (int k = 0; k <= 200; ++k) {  // the step ran from t0 to s.t (an event ends it early)
       d.at(d.t0 + (s.t - d.t0) * k / 200.0, y);
       xMax = std::max(xMax, y[0]);
