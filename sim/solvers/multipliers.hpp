@@ -536,7 +536,7 @@ template <class S> bool solveLcp(const Model<S>& m, Workspace<S>& w) {
   auto b0 = w.lcpB.head(n);
   b0 = w.b.head(n);
   std::vector<char>& in = w.lcpIn;
-  std::fill(in.begin(), in.begin() + n, char(1));
+  for (int a = 0; a < n; ++a) in[a] = 1;
   auto lam = w.lcpLam.head(n);
   lam.setZero();
   for (int iter = 0; iter < 4 * n + 8; ++iter) {
