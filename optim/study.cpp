@@ -187,16 +187,7 @@ void parseCases(const toml::table& doc, const std::string& file, Study& s) {
     c.dropCase.duration = r.positive("duration", c.dropCase.duration);
     if (c.dropCase.liftRatio > 0 && s.scene.roles.lifts.empty())
       r.fail("lift_ratio", "the scene declares no lift element");
-    if (const toml::node* mn = r.get("masses")) {
-      const toml::table* mt = mn->as_table();
-      if (!mt) r.fail("masses", "must be a table of body = mass [kg]");
-      TomlReader mr(*mt, file, r.full("masses"));
-      for (const auto& [k, v] : *mt) {
-        const std::string body(k.str());
-        if (s.scene.model.bodyIndex(body) < 0) mr.fail(body, "'" + body + "' is not a body of the scene");
-        c.dropCase.masses[body] = mr.positive(body, 0.0);
-      }
-    }
+    r.masses("masses", s.scene.model, c.dropCase.masses);
     cases.push_back(c);
   }
   if (cert)

@@ -217,16 +217,7 @@ void SceneBuilder::readCase(const toml::table& t, size_t i, std::set<std::string
     for (int f : sc.roles.tyres) friction = friction || std::get<Tyre<double>>(m.forces[f].type).longitudinal;
     if (!friction) r.fail("forward_speed", "no tyre of this scene declares the longitudinal friction coefficient mu_x");
   }
-  if (const toml::node* mn = t.get("masses")) {
-    const toml::table* mt = mn->as_table();
-    if (!mt) r.fail("masses", "must be a table of body = mass");
-    TomlReader mr(*mt, file, r.full("masses"));
-    for (const auto& [k, v] : *mt) {
-      const std::string body(k.str());
-      if (m.bodyIndex(body) < 0) mr.fail(body, "'" + body + "' is not a body of this scene");
-      c.masses[body] = mr.positive(body);
-    }
-  }
+  r.masses("masses", m, c.masses);
   sc.cases.push_back(c);
 }
 

@@ -247,4 +247,17 @@ std::string readText(const std::string& path, const std::string& what) {
   return s.str();
 }
 
+void TomlReader::masses(const std::string& key, const Model<double>& m, std::map<std::string, double>& masses) const {
+  const toml::node* n = get(key);
+  if (!n) return;
+  const toml::table* t = n->as_table();
+  if (!t) fail(key, "must be a table of body = mass [kg]");
+  TomlReader r(*t, file_, full(key));
+  for (const auto& [k, v] : *t) {
+    const std::string body(k.str());
+    if (m.bodyIndex(body) < 0) r.fail(body, "'" + body + "' is not a body of the scene");
+    masses[body] = r.positive(body);
+  }
+}
+
 }  // namespace lg

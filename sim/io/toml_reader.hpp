@@ -4,6 +4,7 @@
 #pragma once
 
 #include <initializer_list>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -64,6 +65,9 @@ class TomlReader {
   Vec3<double> normalize(const std::string& key, const Vec3<double>& v) const;
   // A finite number from any node (an array element, say); errors name 'key'.
   double toNumber(const toml::node& n, const std::string& key) const;
+  // The table 'key' of body = mass [kg] (a drop case's masses), each body one of model m's, each mass
+  // > 0, into 'masses' (absent: nothing).
+  void masses(const std::string& key, const Model<double>& m, std::map<std::string, double>& masses) const;
 
  private:
   double checkPositive(const std::string& key, double v) const;
