@@ -104,23 +104,30 @@ template <class S> struct Wrenches {
   }
 };
 
-// A force element's velocity stiffness as a rank-1 term: its force law P(sdot) acts through the
-// generalised force Q = -P G^T, with sdot = G V = Gi.(v_i, w_i) + Gj.(v_j, w_j) a relative rate, so
-// dQ/dV = -c G^T G with c = dP/dsdot >= 0. The linearly implicit integrators (ros2, ros34pw2) treat
-// exactly this part implicitly: the orifice damping and the regularised friction that make a drop stiff.
+// A force element's stiffness as a rank-1 term: its force law P(s, sdot) acts through the generalised
+// force Q = -P G^T, with sdot = G V = Gi.(v_i, w_i) + Gj.(v_j, w_j) a relative rate and s the coordinate
+// whose rate it is, so dQ/dV = -c G^T G with c = dP/dsdot >= 0 (the velocity stiffness) and, through s,
+// dQ/dx = -k G^T ds/dx with k = dP/ds (the position stiffness). The linearly implicit integrators
+// (ros2, ros34pw2) take both into their W: the orifice damping and the regularised friction that make a
+// drop stiff, and the gas spring's and the tyre's stiffness, without which ros34pw2 loses most of its
+// accuracy where the strut starts to stroke (a W-method keeps its order with any W; its error constant
+// is what the terms set).
 template <class S> struct DampingTerm {
   int bi = kGround, bj = kGround;
   Vec6<S> Gi = Vec6<S>::Zero(), Gj = Vec6<S>::Zero();
-  S c = S(0);  // [N s/m]
+  S c = S(0);  // [N s/m] dP/dsdot
+  S k = S(0);  // [N/m] dP/ds
 
   // For an element acting along the unit axis e between points with lever arms a_i, a_j of bodies
   // bi, bj (its rate the elongation rate, e from i to j): G_i = -(e, a_i x e), G_j = (e, a_j x e).
-  void setAxial(int i, int j, const Vec3<S>& e, const Vec3<S>& a_i, const Vec3<S>& a_j, const S& c_) {
+  void setAxial(int i, int j, const Vec3<S>& e, const Vec3<S>& a_i, const Vec3<S>& a_j, const S& c_,
+                const S& k_ = S(0)) {
     bi = i;
     bj = j;
     Gi << -e, -a_i.cross(e);
     Gj << e, a_j.cross(e);
     c = c_;
+    k = k_;
   }
 };
 

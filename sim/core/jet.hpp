@@ -10,6 +10,7 @@ namespace lg {
 
 template <class T, int N> struct ScalarTraits<ceres::Jet<T, N>> {
   static double value(const ceres::Jet<T, N>& x) { return static_cast<double>(x.a); }
+  static bool exactZero(const ceres::Jet<T, N>& x) { return x.a == T(0) && x.v.isZero(); }
 };
 
 }  // namespace lg

@@ -23,8 +23,11 @@ template <class S> using MatX = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>
 // ---- scalar traits: the value part of a scalar ------------------------------------------------
 template <class S> struct ScalarTraits {
   static double value(const S& x) { return static_cast<double>(x); }
+  static bool exactZero(const S& x) { return x == S(0); }
 };
 template <class S> inline double value(const S& x) { return ScalarTraits<S>::value(x); }
+// Zero in value and in every derivative part: a term that changes nothing, not even a derivative.
+template <class S> inline bool exactZero(const S& x) { return ScalarTraits<S>::exactZero(x); }
 
 // Lift a double constant into S.
 template <class S> inline S constant(double x) { return S(x); }

@@ -104,6 +104,7 @@ template <class S> struct Workspace {
   VecX<S> bearingB0, bearingF, bearingFNext;  // bearing friction: the friction-free right-hand side, F_f per element (and the next iterate)
   VecX<S> dampRhs, dampMu, smallT;   // scratch of the response and of the W solve
   MatX<S> smallM;                    // (I + G U C), nDamping x nDamping
+  std::vector<int> termsInW;         // the terms of the W solve (those with a coefficient not exactly 0)
   std::vector<PairTerm> pairs;       // terms of J M^-1 J^T for that list, grouped by the sides (i/j)
   std::array<int, 5> pairGroup{};    // of the two rows: terms [pairGroup[g], pairGroup[g+1]) have sides (g/2, g%2)
   std::vector<int> order, pos;       // elimination order of the factor (order[t]: list index; pos: inverse)
@@ -157,6 +158,7 @@ template <class S> struct Workspace {
     candidate.assign(R, 0);
     pairList.reserve(R);
     damping.assign(m.nDamping, DampingTerm<S>{});
+    termsInW.assign(m.nDamping, 0);
     damping0 = damping;
     U = U0 = MatX<S>::Zero(m.nv(), m.nDamping);
     zb.assign(N, Vec6<S>::Zero());

@@ -23,7 +23,8 @@
 // (b = 1/12 + t^2/720 + t^4/30240 below t = 1e-2). About a single axis Jr^-1 theta = theta: the moment is
 // exactly -k_r theta for any angle. The damping is exact too: each of its six components is a rank-1
 // DampingTerm (rate d'_k along the k-th axis of frame i at p_j, or w_rel,k), so the linearly implicit
-// integrators take the bushing's whole velocity stiffness.
+// integrators take the bushing's whole velocity stiffness; each term also carries its axis's stiffness
+// (k_t,k exact; k_r,k that of theta about axis k as w_rel,k were its rate, exact at small angles).
 #pragma once
 
 #include <cmath>
@@ -150,18 +151,19 @@ template <class S> struct Bushing {
   }
   void events(const Kins<S>&, S*) const {}
   // Six rank-1 terms: d'_k = G V along the k-th axis e_k of frame i at p_j (DampingTerm::setAxial,
-  // lever arms p_j - r_i and p_j - r_j), w_rel,k = e_k.(w_j - w_i); c = C_t,k and C_r,k.
+  // lever arms p_j - r_i and p_j - r_j), w_rel,k = e_k.(w_j - w_i); c = C_t,k and C_r,k, k = K_t,k and K_r,k.
   void damping(const Kins<S>& K, DampingTerm<S>* d) const {
     const Eval e = eval(K);
     for (int k = 0; k < 3; ++k) {
       const Vec3<S> ek = e.Qi.col(k);
-      d[k].setAxial(bi, bj, ek, e.armI, e.armJ, ct[k]);
+      d[k].setAxial(bi, bj, ek, e.armI, e.armJ, ct[k], kt[k]);
       DampingTerm<S>& r = d[3 + k];
       r.bi = bi;
       r.bj = bj;
       r.Gi << Vec3<S>::Zero(), -ek;
       r.Gj << Vec3<S>::Zero(), ek;
       r.c = cr[k];
+      r.k = kr[k];
     }
   }
   // Force and moment on body j in frame i, the displacement and the rotation vector.

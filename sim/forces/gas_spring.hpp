@@ -98,6 +98,14 @@ template <class S> struct GasSpring {
     return r;
   }
 
+  // dp_1/ds [Pa/m] at the state 'p' of pressures(s, F): p_1 V_1^n fixed and dV_1/ds = -F give
+  // n p_1 F / (Omega0 - s F); engaged, with p_1 = p_2 = p and V_1 + V_2 = Omega0 + Omega02 - s F,
+  // F p / (V_1/n + V_2/n2).
+  S pressureRate(const S& s, const S& F, const Pressures& p) const {
+    if (p.engaged) return F * p.p1 / (p.V1 / n + p.V2 / n2);
+    return n * p.p1 * F / (Omega0 - s * F);
+  }
+
   // p_1 [Pa]: the pressure the rod's seals carry.
   S pressure(const S& s, const S& F) const { return pressures(s, F).p1; }
 

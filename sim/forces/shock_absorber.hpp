@@ -177,10 +177,14 @@ template <class S> struct ShockAbsorber {
   }
   // sdot = G V along the strut axis (DampingTerm::setAxial); c = dP_a/dsdot =
   // mu (p_1 - p_atm) F eps^2 / (sdot^2 + eps^2)^(3/2) (regularised friction only) + 2 (k_1 + k_2) |sdot|
-  // (on a Coulomb slip segment 2 (k_1 + k_2) sigma sdot, the derivative of its continued law).
+  // (on a Coulomb slip segment 2 (k_1 + k_2) sigma sdot, the derivative of its continued law);
+  // k = dP_a/ds = F dp_1/ds (1 + mu sign) through the gas and the friction it loads (sign: sigma on a
+  // Coulomb slip segment, 0 stuck; the regularised sign), the metering pin's dependence on s left out.
   void damping(const Kins<S>& K, DampingTerm<S>* d) const {
     const Eval r = eval(K);
     const S F = area();
+    const S frictionShare = coulomb ? S(r.sigma) * mu : mu * smoothSign(r.sdot, frictionVelocity);
+    const S k = F * gasSpring().pressureRate(r.s, F, gasSpring().pressures(r.s, F)) * (S(1) + frictionShare);
     const S v2 = r.sdot * r.sdot, e2 = S(frictionVelocity * frictionVelocity);
     const S q = v2 + e2;
     S c = coulomb ? S(0) : mu * (r.p1 - pAtm) * F * e2 / (q * sqrt(q));
@@ -193,7 +197,7 @@ template <class S> struct ShockAbsorber {
       const S a2 = ext ? f2Extension() : f2;
       c += (ext ? xi2Extension() : xi2) * rho * F2 * F2 * F2 * speed / (a2 * a2);
     }
-    d->setAxial(bi, bj, r.e, r.a_i, r.a_j, c);
+    d->setAxial(bi, bj, r.e, r.a_i, r.a_j, c, k);
   }
   std::vector<std::string> outputNames() const {
     std::vector<std::string> names{"s", "s_dot", "p_1", "P_a", "P_gas", "P_friction", "P_orifice1"};

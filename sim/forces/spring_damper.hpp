@@ -44,10 +44,10 @@ template <class S> struct SpringDamper {
     return k * x * x / S(2);
   }
   void events(const Kins<S>&, S*) const {}
-  // Ldot = G V along the spring's axis (DampingTerm::setAxial); dT/dLdot = c.
+  // Ldot = G V along the spring's axis (DampingTerm::setAxial); dT/dLdot = c, dT/dL = k.
   void damping(const Kins<S>& K, DampingTerm<S>* d) const {
     const Eval r = eval(K);
-    d->setAxial(bi, bj, r.e, r.a_i, r.a_j, c);
+    d->setAxial(bi, bj, r.e, r.a_i, r.a_j, c, k);
   }
   static std::vector<std::string> outputNames() { return {"L", "tension"}; }
   void outputs(const Kins<S>& K, S* out) const {

@@ -71,7 +71,7 @@ template <class S> struct Tyre {
   S groundSpeed = S(0);                      // [m/s] V_x (the drop case's forward speed)
 
   int dissipationChannels() const { return (damped ? 1 : 0) + (longitudinal ? 2 : 0); }
-  int dampingTerms() const { return (damped ? 1 : 0) + (longitudinal ? 1 : 0); }
+  int dampingTerms() const { return 1 + (longitudinal ? 1 : 0); }  // the vertical term carries the stiffness
   int eventCount() const { return damped ? 2 : 1; }
   int inputChannels() const { return longitudinal ? 1 : 0; }  // the ground's work (the last channel)
   // The dissipation of damping and slip has kinks (the clamp, the contact's end): the steps must resolve them.
@@ -160,16 +160,16 @@ template <class S> struct Tyre {
     g[1] = isPositive(r.delta) ? r.Ps + dampingForce(r.delta, r.rate) : (value(dampingExponent) == 0.0 ? c * r.rate : S(0));
   }
   // delta' = G V with G = -(n, a x n) on the wheel (DampingTerm::setAxial with e = n against the ground):
-  // c_d = c (delta/delta_max)^q while the tyre is loaded and unclamped. v_s = G V with G = (t, a_c x t):
-  // c_x = dP_x/dv_s = mu_x P_t eps^2 / (v_s^2 + eps^2)^(3/2).
+  // k = dP_s/ddelta and, if damped, c_d = c (delta/delta_max)^q while the tyre is loaded (and unclamped),
+  // both 0 off the ground. v_s = G V with G = (t, a_c x t): c_x = dP_x/dv_s = mu_x P_t eps^2 / (v_s^2 + eps^2)^(3/2).
   void damping(const Kins<S>& K_, DampingTerm<S>* d) const {
-    if (!damped && !longitudinal) return;
     const Contact r = contact(K_);
     int k = 0;
-    if (damped) {
+    {
       const bool on = isPositive(r.delta) && isPositive(r.P);
       d[k++].setAxial(body, kGround, normal, r.arm, Vec3<S>::Zero(),
-                      on ? S(c * pow(r.delta / deltaMax, dampingExponent)) : S(0));
+                      on && damped ? S(c * pow(r.delta / deltaMax, dampingExponent)) : S(0),
+                      on ? stiffness(r.delta) : S(0));
     }
     if (longitudinal) {
       const S e2 = slipVelocity() * slipVelocity(), q = r.vSlip * r.vSlip + e2;

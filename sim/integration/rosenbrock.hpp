@@ -10,14 +10,18 @@
 
 namespace lg {
 
-// r <- W^-1 r with W = I - gamma h J_W, J_W = [[0, K], [0, J_vv]] over (positions, velocities):
-// J_vv = -sum_e c_e u_e G_e the force elements' damping (the terms saved at the step's start) and K
-// the kinematic map V -> (r', q') at y_n. W is block upper triangular: the velocities first, by
-// Woodbury, (I + U C G)^-1 r = r - U C (I + G U C)^-1 G r with C = gamma h diag(c); then the
-// positions, x += gamma h K v. (Without K the W-method keeps its order but loses accuracy where a
-// stiff damper couples to the positions: an overdamped oscillator at h |lambda| = 100 erred by 2 %.)
-template <class S> void solveW(StepContext<S>& c, double gh, VecX<S>& r) {
-  solveVelocityW(c, gh, r);
+// r <- W^-1 r with W = I - gamma h J_W, J_W = [[0, K], [J_vx, J_vv]] over (positions, velocities): K the
+// kinematic map V -> (r', q') at y_n, and the force elements' stiffness terms (DampingTerm, saved at the
+// step's start): J_vv = -sum_e c_e U_e G_e, J_vx = -sum_e k_e U_e H_e with H_e = ds_e/dx (H_e K = G_e)
+// and U_e = M_c^-1 G_e^T the constrained response. Positions x = r_x + gamma h K v give for the
+// velocities
+//   (I + U C G) v = r_v - gamma h sum_e k_e U_e (H_e r_x),   C = gamma h diag(c_e + gamma h k_e),
+// solved by Woodbury, (I + U C G)^-1 b = b - U C (I + G U C)^-1 G b. (Without K the W-method keeps its
+// order but loses accuracy where a stiff damper couples to the positions: an overdamped oscillator at
+// h |lambda| = 100 erred by 2 %; without the k_e, ros34pw2's peak-load error on the seed gear's limit
+// drop at rtol 3e-3 is 30 times larger.)
+template <class S> void solveW(StepContext<S>& c, double gh, bool withStiffness, VecX<S>& r) {
+  solveVelocityW(c, gh, withStiffness, r);
   const int N = c.m.nBodies(), nx = c.m.nx();
   for (int b = 0; b < N; ++b) {
     r.template segment<3>(7 * b) += S(gh) * r.template segment<3>(nx + 6 * b);
@@ -26,7 +30,20 @@ template <class S> void solveW(StepContext<S>& c, double gh, VecX<S>& r) {
   }
 }
 
-template <class S> void solveVelocityW(StepContext<S>& c, double gh, VecX<S>& r) {
+// H_e r_x: the change of term d's coordinate s under the position change r_x (per body (dr, dq), the
+// rotation dtheta = 2 vec(dq q*) at y_n's unit quaternion q, the inverse of q' = (0, w) q / 2).
+template <class S> S positionRate(const StepContext<S>& c, const DampingTerm<S>& d, const VecX<S>& r) {
+  auto body = [&](int b, const Vec6<S>& G) {
+    if (b < 0) return S(0);
+    const Vec4<S> q = c.w.y0.template segment<4>(7 * b + 3), dq = r.template segment<4>(7 * b + 3);
+    const Vec3<S> qv = q.template tail<3>(), dqv = dq.template tail<3>();
+    const Vec3<S> dtheta = S(2) * (q[0] * dqv - dq[0] * qv - dqv.cross(qv));
+    return G.template head<3>().dot(r.template segment<3>(7 * b)) + G.template tail<3>().dot(dtheta);
+  };
+  return body(d.bi, d.Gi) + body(d.bj, d.Gj);
+}
+
+template <class S> void solveVelocityW(StepContext<S>& c, double gh, bool withStiffness, VecX<S>& r) {
   const int k = c.m.nDamping, nx = c.m.nx();
   if (k == 0) return;
   auto Gdot = [&](const DampingTerm<S>& d, const VecX<S>& v) {  // G . (velocity part of v)
@@ -41,32 +58,42 @@ template <class S> void solveVelocityW(StepContext<S>& c, double gh, VecX<S>& r)
     if (d.bj >= 0) s += d.Gj.dot(c.w.U0.col(f).template segment<6>(6 * d.bj));
     return s;
   };
-  for (int e = 0; e < k; ++e) {
-    c.w.smallT[e] = Gdot(c.w.damping0[e], r);
-    for (int f = 0; f < k; ++f)
-      c.w.smallM(e, f) = (e == f ? S(1) : S(0)) + GdotU(c.w.damping0[e], f) * S(gh) * c.w.damping0[f].c;
+  const auto stiffness = [&](int f) { return withStiffness ? c.w.damping0[f].k : S(0); };
+  for (int f = 0; f < k; ++f)  // the positions' share of the right-hand side
+    if (value(stiffness(f)) != 0.0)
+      r.segment(nx, c.m.nv()) -= (S(gh) * stiffness(f) * positionRate(c, c.w.damping0[f], r)) * c.w.U0.col(f);
+  const auto rate = [&](int f) { return c.w.damping0[f].c + S(gh) * stiffness(f); };  // C = gamma h diag(rate)
+  const auto coefficient = [&](int f) { return S(gh) * rate(f); };
+  int n = 0;  // the terms that change W (an undamped tyre's in ros2, a tyre in the air: none)
+  for (int f = 0; f < k; ++f)
+    if (!exactZero(coefficient(f))) c.w.termsInW[n++] = f;
+  const int* T = c.w.termsInW.data();
+  for (int e = 0; e < n; ++e) {
+    c.w.smallT[e] = Gdot(c.w.damping0[T[e]], r);
+    for (int f = 0; f < n; ++f)
+      c.w.smallM(e, f) = (e == f ? S(1) : S(0)) + GdotU(c.w.damping0[T[e]], T[f]) * S(gh) * rate(T[f]);
   }
-  // small dense solve (k is the number of dampers), Gaussian elimination with partial pivoting
-  for (int j = 0; j < k; ++j) {
+  // small dense solve (n terms), Gaussian elimination with partial pivoting
+  for (int j = 0; j < n; ++j) {
     int p = j;
-    for (int i = j + 1; i < k; ++i)
+    for (int i = j + 1; i < n; ++i)
       if (std::abs(value(c.w.smallM(i, j))) > std::abs(value(c.w.smallM(p, j)))) p = i;
     if (p != j) {
       c.w.smallM.row(p).swap(c.w.smallM.row(j));
       std::swap(c.w.smallT[p], c.w.smallT[j]);
     }
-    for (int i = j + 1; i < k; ++i) {
+    for (int i = j + 1; i < n; ++i) {
       const S f = c.w.smallM(i, j) / c.w.smallM(j, j);
-      for (int col = j; col < k; ++col) c.w.smallM(i, col) -= f * c.w.smallM(j, col);
+      for (int col = j; col < n; ++col) c.w.smallM(i, col) -= f * c.w.smallM(j, col);
       c.w.smallT[i] -= f * c.w.smallT[j];
     }
   }
-  for (int j = k - 1; j >= 0; --j) {
+  for (int j = n - 1; j >= 0; --j) {
     S s = c.w.smallT[j];
-    for (int col = j + 1; col < k; ++col) s -= c.w.smallM(j, col) * c.w.smallT[col];
+    for (int col = j + 1; col < n; ++col) s -= c.w.smallM(j, col) * c.w.smallT[col];
     c.w.smallT[j] = s / c.w.smallM(j, j);
   }
-  for (int f = 0; f < k; ++f) r.segment(nx, c.m.nv()) -= (S(gh) * c.w.damping0[f].c * c.w.smallT[f]) * c.w.U0.col(f);
+  for (int f = 0; f < n; ++f) r.segment(nx, c.m.nv()) -= (coefficient(T[f]) * c.w.smallT[f]) * c.w.U0.col(T[f]);
 }
 
 // One step of a linearly implicit Rosenbrock-W method (RosenbrockTableau: ROS2 or ROS34PW2) in the
@@ -105,7 +132,7 @@ template <class S> bool stepRosenbrock(StepContext<S>& c, const RosenbrockTablea
       ScopedStage timer(c.w.timer, kIntegrate, cfg.profile);
       for (int j = 0; j < i; ++j)
         if (tab.C[i][j] != 0) U += S(tab.C[i][j] / h) * k[1 + j];
-      solveW(c, gh, U);
+      solveW(c, gh, tab.stiffnessInW, U);
       U *= S(gh);
     }
     double err = 0;

@@ -390,6 +390,10 @@ TEST_CASE("bushing: forces are the gradient of the energy, damping terms the vel
 
     lg::DampingTerm<double> dt[6];
     b.damping(t.kins(), dt);
+    for (int k = 0; k < 3; ++k) {  // each term's stiffness: its axis's
+      CHECK(dt[k].k == b.kt[k]);
+      CHECK(dt[3 + k].k == b.kr[k]);
+    }
     Eigen::Matrix<double, 12, 12> M = Eigen::Matrix<double, 12, 12>::Zero(), F;
     for (const auto& d : dt) {
       Eigen::Matrix<double, 12, 1> G = Eigen::Matrix<double, 12, 1>::Zero();

@@ -129,8 +129,10 @@ TEST_CASE("Coulomb friction: a block on a moving belt sticks, then slips, as the
     const char* integrator;
     double rtol, bound;
   };
-  // Errors relative to the slip amplitude v_b / omega = 1 cm (measured: dopri5 1.1e-7, ros34pw2 4.7e-8).
-  for (const Run& r : {Run{"dopri5", 1e-10, 2e-7}, Run{"ros34pw2", 1e-8, 1e-7}}) {
+  // Errors relative to the slip amplitude v_b / omega = 1 cm (measured: dopri5 1.1e-7 at rtol 1e-10,
+  // ros34pw2 1.2e-7 at 1e-9; both at the floor the two reach: ros34pw2 gives 1.1e-7 at 1e-10 too, and
+  // 2.5e-7 at 1e-8).
+  for (const Run& r : {Run{"dopri5", 1e-10, 2e-7}, Run{"ros34pw2", 1e-9, 2e-7}}) {
     const std::vector<double> x = beltRun(b, r.integrator, r.rtol, times);
     double worst = 0;
     for (size_t i = 0; i < times.size(); ++i) worst = std::max(worst, std::abs(x[i] - b.exact(times[i])));

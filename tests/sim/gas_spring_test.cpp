@@ -223,7 +223,7 @@ TEST_CASE("two-stage gas spring: engagement located in a drop, energy balance cl
 // value over the parameter) and the stroke against central differences at relative steps 1e-6 (1e-8;
 // measured 1.9e-9 worst); before engagement the second chamber's derivatives are exactly 0; dP_gas/ds
 // against the closed-form stiffness p F^2 / (V_1/n + V_2/n_2) after engagement, n p F^2 / V_1 before
-// (2e-14; measured 2.9e-15).
+// (2e-14; measured 2.9e-15), and the damping term's k = that (1 + mu sign(s')) (2e-14; measured 1.8e-15).
 TEST_CASE("two-stage gas spring: damping term and Jet derivatives against central differences", "[shock_absorber][gas_spring][jet]") {
   toml::table doc = lgtest::shippedDoc("data/nose_gear.toml");
   lgtest::element(doc, "force", "strut").insert_or_assign("friction", "regularised");
@@ -240,8 +240,11 @@ TEST_CASE("two-stage gas spring: damping term and Jet derivatives against centra
   sj.p02.v[0] = 1.0;
   sj.Omega02.v[1] = 1.0;
   sj.n2.v[2] = 1.0;
-  double worstC = 0, worstJ = 0, worstK = 0;
+  double worstC = 0, worstJ = 0, worstK = 0, worstTermK = 0;
   for (double s : {0.12, sStar - 1e-4, sStar + 1e-4, 0.25, 0.29}) {
+    // Closed-form stiffness of the gas force at the reduced model's volumes.
+    const TwoChamber::At r = ref.at(s);
+    const double k = s > sStar ? r.p1 * F * F / (r.V1 / sa.n + r.V2 / sa.n2) : sa.n * r.p1 * F * F / r.V1;
     for (double v : {1.2, -0.4}) {
       INFO("s = " << s << ", s' = " << v);
       lg::DampingTerm<double> dt;
@@ -250,6 +253,11 @@ TEST_CASE("two-stage gas spring: damping term and Jet derivatives against centra
       const double fd = (strutAt(sc, sc.model, s, v + h).out[3] - strutAt(sc, sc.model, s, v - h).out[3]) / (2 * h);
       worstC = std::max(worstC, lgtest::relDiff(dt.c, fd));
       CHECK(lgtest::relDiff(dt.c, fd) < 1e-8);
+      // The term's position stiffness: the gas force's and the friction's that it loads (mu times the
+      // regularised sign); the metering pin's share through the orifice is not in it.
+      const double kTerm = k * (1.0 + sa.mu * lg::smoothSign(v, sa.frictionVelocity));
+      worstTermK = std::max(worstTermK, lgtest::relDiff(dt.k, kTerm));
+      CHECK(lgtest::relDiff(dt.k, kTerm) < 2e-14);
     }
     const StrutAt<J> a = strutAt<J>(sc, mj, s, 0.0, nullptr, 3);
     auto central = [&](auto set, double step) {
@@ -285,14 +293,12 @@ TEST_CASE("two-stage gas spring: damping term and Jet derivatives against centra
     const double eS = lgtest::relDiff(P.v[3], dS);
     worstJ = std::max(worstJ, eS);
     CHECK(eS < 1e-8);
-    // Closed-form stiffness at the reduced model's volumes.
-    const TwoChamber::At r = ref.at(s);
-    const double k = s > sStar ? r.p1 * F * F / (r.V1 / sa.n + r.V2 / sa.n2) : sa.n * r.p1 * F * F / r.V1;
     worstK = std::max(worstK, lgtest::relDiff(P.v[3], k));
     CHECK(lgtest::relDiff(P.v[3], k) < 2e-14);
   }
-  lgtest::report("two-stage derivatives: damping term %.1e, Jet vs central differences %.1e (scaled), stiffness vs closed form %.1e",
-                 worstC, worstJ, worstK);
+  lgtest::report("two-stage derivatives: damping term %.1e, Jet vs central differences %.1e (scaled), stiffness vs closed "
+                 "form %.1e, the term's stiffness %.1e",
+                 worstC, worstJ, worstK, worstTermK);
 }
 
 // A single-stage strut is the one it was: the seed gear with a second chamber that never engages

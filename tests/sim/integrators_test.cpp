@@ -4,7 +4,8 @@
 // observed order of the global error checks the tableaus and their transformed form: 2 for ROS2, 3
 // for ROS34PW2 (measured 2.10, 2.00 and 3.00, 3.00). A very stiff damper (eigenvalue -c/m = -5000 1/s
 // against steps of 20 ms) checks that the W-matrix takes the damping and its coupling to the positions
-// implicitly: stable and accurate (2e-8 relative) where an explicit step would need h < 0.6 ms.
+// implicitly: stable and accurate (4e-8 and 1e-13 relative) where an explicit step would need h < 0.6 ms.
+// One step of each against the method's original form checks that W holds the Jacobian it should.
 #include <cmath>
 
 #include "sim/accuracy.hpp"  // integratorName
@@ -30,7 +31,8 @@ struct Oscillator {
 };
 
 // |x(T) - exact| after a run at the fixed step h (error control off) with the given integrator.
-double fixedStepError(const Oscillator& o, lg::IntegratorKind kind, double h, double T, long* steps = nullptr) {
+double fixedStepError(const Oscillator& o, lg::IntegratorKind kind, double h, double T, long* steps = nullptr,
+                      lg::VecX<double>* yEnd = nullptr) {
   char text[1024];
   std::snprintf(text, sizeof text, R"(
 [[body]]
@@ -72,6 +74,7 @@ L0 = 1.0
   const lg::RunStatus st = lg::simulate(m, s, w, T);
   REQUIRE(st.ok);
   if (steps) *steps = st.steps;
+  if (yEnd) *yEnd = s.y;
   return std::abs((s.y[0] - 1.0) - o.exact(T));
 }
 
@@ -99,6 +102,70 @@ TEST_CASE("Rosenbrock-W integrators: observed order 2 (ros2) and 3 (ros34pw2) on
   }
 }
 
+namespace {
+// One step of a Rosenbrock-W method in its original form (Hairer & Wanner IV.7.4 and IV.7.9) on y' = A y,
+// y = (x, v), with the matrix J in W: (I - gamma h J) k_i = h A (y0 + sum_j<i alpha_ij k_j) + h J sum_j<i
+// gamma_ij k_j, y1 = y0 + sum_i b_i k_i. The coefficients as Verwer et al. (ROS2) and Rang & Angermann
+// (ROS34PW2) give them.
+Eigen::Vector2d rosenbrockStep(const Eigen::Matrix2d& A, const Eigen::Matrix2d& J, const Eigen::Vector2d& y0, double h,
+                               bool ros34pw2) {
+  const double g2 = 1.0 + 1.0 / std::sqrt(2.0), g4 = 4.3586652150845900e-01;
+  const double alpha2[2][2] = {{0, 0}, {1.0, 0}}, gamma2[2][2] = {{0, 0}, {-2.0 * g2, 0}}, b2[2] = {0.5, 0.5};
+  const double alpha4[4][4] = {{0, 0, 0, 0},
+                               {8.7173304301691801e-01, 0, 0, 0},
+                               {8.4457060015369423e-01, -1.1299064236484185e-01, 0, 0},
+                               {0, 0, 1.0, 0}};
+  const double gamma4[4][4] = {{0, 0, 0, 0},
+                               {-8.7173304301691801e-01, 0, 0, 0},
+                               {-9.0338057013044082e-01, 5.4180672388095326e-02, 0, 0},
+                               {2.4212380706095346e-01, -1.2232505839045147e+00, 5.4526025533510214e-01, 0}};
+  const double b4[4] = {2.4212380706095346e-01, -1.2232505839045147e+00, 1.5452602553351020e+00, 4.3586652150845900e-01};
+  const int s = ros34pw2 ? 4 : 2;
+  const double g = ros34pw2 ? g4 : g2;
+  const Eigen::Matrix2d W = Eigen::Matrix2d::Identity() - g * h * J;
+  Eigen::Vector2d k[4], y1 = y0;
+  for (int i = 0; i < s; ++i) {
+    Eigen::Vector2d yi = y0, gi = Eigen::Vector2d::Zero();
+    for (int j = 0; j < i; ++j) {
+      yi += (ros34pw2 ? alpha4[i][j] : alpha2[i][j]) * k[j];
+      gi += (ros34pw2 ? gamma4[i][j] : gamma2[i][j]) * k[j];
+    }
+    k[i] = W.partialPivLu().solve(h * A * yi + h * J * gi);
+    y1 += (ros34pw2 ? b4[i] : b2[i]) * k[i];
+  }
+  return y1;
+}
+}  // namespace
+
+// The W-matrix holds the force elements' whole Jacobian where they are all there is: on the oscillator
+// (1 DOF, linear) one ros34pw2 step equals the method with the exact Jacobian A = [[0, 1], [-k/m, -c/m]],
+// which needs the spring's stiffness k in W as well as its damping c and the coupling through the
+// positions; one ros2 step equals it with the damping alone, J = [[0, 1], [0, -c/m]] (RosenbrockTableau::
+// stiffnessInW). Measured 2e-15 and 8e-15 relative; with the other method's W the step differs by 100 %
+// and more (h sqrt(k/m) = 2.8).
+TEST_CASE("Rosenbrock-W integrators: W holds a spring-damper's Jacobian (one step against the method's original form)",
+          "[integrators][rosenbrock]") {
+  Oscillator o;
+  o.k = 4.0e4;  // [N/m] stiff against the step: h sqrt(k/m) = 2.8, h c/m = 0.4
+  o.c = 40.0;
+  const double h = 0.02;
+  const Eigen::Matrix2d A{{0.0, 1.0}, {-o.k / o.mass, -o.c / o.mass}}, damping{{0.0, 1.0}, {0.0, -o.c / o.mass}};
+  for (bool ros34pw2 : {false, true}) {
+    const lg::IntegratorKind kind = ros34pw2 ? lg::IntegratorKind::Ros34pw2 : lg::IntegratorKind::Ros2;
+    lg::VecX<double> y;
+    long steps = 0;
+    fixedStepError(o, kind, h, h, &steps, &y);
+    REQUIRE(steps == 1);
+    const Eigen::Vector2d ref = rosenbrockStep(A, ros34pw2 ? A : damping, Eigen::Vector2d(o.x0, o.v0), h, ros34pw2);
+    const double ex = std::abs((y[0] - 1.0) - ref[0]) / std::abs(ref[0]), ev = std::abs(y[7] - ref[1]) / std::abs(ref[1]);
+    const Eigen::Vector2d other = rosenbrockStep(A, ros34pw2 ? damping : A, Eigen::Vector2d(o.x0, o.v0), h, ros34pw2);
+    lgtest::report("one %s step against the original form: x %.2e, v %.2e relative (with the other W: x %.1e)",
+                   ros34pw2 ? "ros34pw2" : "ros2", ex, ev, std::abs(other[0] - ref[0]) / std::abs(ref[0]));
+    CHECK(ex < 1e-13);
+    CHECK(ev < 1e-13);
+  }
+}
+
 TEST_CASE("Rosenbrock-W integrators: a very stiff damper costs no small steps", "[integrators][rosenbrock]") {
   Oscillator o;
   o.c = 1.0e4;  // [N s/m] overdamped: eigenvalues -c/m = -5000 1/s and -k/c = -0.005 1/s
@@ -110,7 +177,8 @@ TEST_CASE("Rosenbrock-W integrators: a very stiff damper costs no small steps", 
     lgtest::report("stiff damper, %s: %ld steps of %.0f ms, |x(T) - exact| / |x(T)| = %.2e",
                    kind == lg::IntegratorKind::Ros2 ? "ros2" : "ros34pw2", steps, 1e3 * h, err / scale);
     CHECK(steps <= static_cast<long>(T / h) + 1);
-    CHECK(err <= 1e-6 * scale);  // measured 4e-8 (ros2), 2e-8 (ros34pw2)
+    // measured 4.2e-8 (ros2) and 1.1e-13 (ros34pw2, whose W also holds the spring: the exact Jacobian)
+    CHECK(err <= (kind == lg::IntegratorKind::Ros2 ? 1e-7 : 1e-12) * scale);
   }
   // The closed form's overdamped branch, checked by RK4 well inside its stability limit
   // (h |lambda_fast| = 1 < 2.8): 10000 steps for what the W-methods do in 100.
@@ -119,18 +187,24 @@ TEST_CASE("Rosenbrock-W integrators: a very stiff damper costs no small steps", 
 }
 
 namespace {
-// Samples the first coordinate of y on every step's dense output (the block's position on its guide)
-// and notes the first step that ends on the stop.
+// Samples the first coordinate of y on every step's dense output (the block's position on its guide),
+// notes the first step that ends on the stop and where the samples first reach it (linear between two).
 struct PeakWatch {
   double xMax = -1e300, xStop = 0, tHit = -1;  // tHit: the end of the first step that ends on the stop
+  double tCross = -1;                           // the dense output's first arrival at xStop
   lg::VecX<double> y;                           // the dense output's samples
   void onStart(const lg::Model<double>&, const lg::State<double>& s, lg::Workspace<double>&) { xMax = s.y[0]; }
   void onStep(const lg::Model<double>&, const lg::State<double>& s, lg::Workspace<double>&, const lg::DenseOutput<double>& d) {
     if (tHit < 0 && std::abs(s.y[0] - xStop) < 1e-6) tHit = s.t;
     y.resize(d.y0->size());
+    double tPrev = 0, xPrev = 0;
     for (int k = 0; k <= 200; ++k) {  // the step ran from t0 to s.t (an event ends it early)
-      d.at(d.t0 + (s.t - d.t0) * k / 200.0, y);
+      const double t = d.t0 + (s.t - d.t0) * k / 200.0;
+      d.at(t, y);
       xMax = std::max(xMax, y[0]);
+      if (tCross < 0 && k > 0 && xPrev < xStop && y[0] >= xStop) tCross = tPrev + (t - tPrev) * (xStop - xPrev) / (y[0] - xPrev);
+      tPrev = t;
+      xPrev = y[0];
     }
   }
   bool stopRequested() const { return false; }
@@ -203,15 +277,23 @@ L0 = 1.0
     REQUIRE(st.ok);
     INFO(lg::integratorName(kind) << ": events " << st.events << ", largest x " << watch.xMax - 1.0 << " m");
     lgtest::report("stop inside one step, %s: %ld events, largest x - L = %.2e m (without the contact %.4f m), "
-                   "contact at %.6f s (closed form %.6f s)",
-                   lg::integratorName(kind).c_str(), st.events, watch.xMax - 1.0 - L, A - L, watch.tHit, tContact);
+                   "contact at %.8f s (its dense output reaches L at %.8f s; closed form %.8f s)",
+                   lg::integratorName(kind).c_str(), st.events, watch.xMax - 1.0 - L, A - L, watch.tHit, watch.tCross,
+                   tContact);
     CHECK(st.events >= 1);
     // No passage: the dense output goes beyond the stop by the contact band only (the event triggers
     // at a penetration of contact_tolerance, 1e-7 m; achieved 1.0e-7 m); without the event it would
     // reach A - L = 1e-3 m beyond.
     CHECK(watch.xMax - 1.0 - L < m.settings.contactTolerance + 1e-12);
-    // The contact time against the closed form, within the dense output's error at these large steps
-    // without error control (achieved 8.4e-6 s with dopri5's quartic, 5.0e-4 s with ros34pw2's cubic).
-    CHECK(std::abs(watch.tHit - tContact) < (kind == lg::IntegratorKind::DormandPrince ? 1.5e-5 : 7e-4));
+    // The event is where the step's dense output reaches the stop, less the time it takes to cross the
+    // contact band of 1e-7 m (achieved 1.4e-6 s with dopri5, 4.1e-6 s with ros34pw2, which meets the
+    // stop later and slower).
+    CHECK(watch.tCross > 0);
+    CHECK(std::abs(watch.tHit - watch.tCross) < 1e-5);
+    // And dopri5's against the closed form (achieved 8.4e-6 s). ros34pw2's solution itself is 1.8e-2 s
+    // late at these steps without error control (h omega = 0.63): its W holds the spring's stiffness, an
+    // L-stable method then damps an undamped oscillation at such steps, and the contact is near the
+    // peak (x = 0.99 A), where a small loss of amplitude moves it much.
+    if (kind == lg::IntegratorKind::DormandPrince) CHECK(std::abs(watch.tHit - tContact) < 1.5e-5);
   }
 }

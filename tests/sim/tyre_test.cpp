@@ -423,11 +423,15 @@ TEST_CASE("tyre: damping term and Jet derivatives of force and energy", "[tyre][
         OneBody b(0.30 - d);
         b.k[0].v = lg::Vec3<double>(0.0, -v, 0.0);
         lg::DampingTerm<double> dt[1];
+        REQUIRE(t.dampingTerms() == 1);
         t.damping(b.kins(), dt);
         const double h = 1e-6;
         const double fd = (force(t, d, v + h) - force(t, d, v - h)) / (2 * h);
         CHECK(dt[0].c == Approx(fd).epsilon(1e-7));
         CHECK(dt[0].Gi.head<3>().dot(b.k[0].v) == Approx(v).epsilon(1e-14));  // G V = delta'
+        // k = dP/ddelta (the carcass's stiffness; the damping's share through delta is left to the W-method)
+        const double fdK = (t.load(d + h) - t.load(d - h)) / (2 * h);
+        CHECK(dt[0].k == Approx(fdK).epsilon(1e-7));
         // Jet: force and energy in K, c, q, and the deflection.
         lg::Tyre<J> tj = t.cast<J>();
         tj.K.v[0] = 1.0;
@@ -716,13 +720,17 @@ TEST_CASE("tyre spin-up: damping term and Jet derivatives of the drag", "[tyre][
     INFO("omega_z " << wz);
     OneBody b(0.30 - d);
     b.k[0].w = lg::Vec3<double>(0.0, 0.0, wz);
-    lg::DampingTerm<double> dt[1];
+    lg::DampingTerm<double> dt[2];  // the vertical term (the carcass's stiffness), then the drag's
+    REQUIRE(t.dampingTerms() == 2);
     t.damping(b.kins(), dt);
     const double vs = t.contact(b.kins()).vSlip;
-    CHECK(dt[0].Gi.tail<3>().dot(b.k[0].w) == Approx(vs - 10.0).epsilon(1e-14));
+    CHECK(dt[1].Gi.tail<3>().dot(b.k[0].w) == Approx(vs - 10.0).epsilon(1e-14));
     const double h = 1e-5 * std::max(std::abs(vs), 0.5);  // relative to the slip's scale (eps = 0.5 m/s)
     const double fd = (drag(t, h, wz) - drag(t, -h, wz)) / (2 * h);
-    CHECK(dt[0].c == Approx(fd).epsilon(1e-7));
+    CHECK(dt[1].c == Approx(fd).epsilon(1e-7));
+    CHECK(dt[1].k == 0.0);
+    CHECK(dt[0].c == 0.0);  // undamped
+    CHECK(dt[0].k == t.stiffness(t.contact(b.kins()).delta));
     using J = ceres::Jet<double, 2>;
     lg::Tyre<J> tj = t.cast<J>();
     tj.muX.v[0] = 1.0;
