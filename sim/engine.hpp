@@ -222,11 +222,12 @@ template <class S> bool bearingFriction(const Model<S>& m, VecX<S>& lambdaAll, W
   return true;
 }
 
-// ---- stage: velocity stiffness (for the linearly implicit integrator) --------------------------
-// For each damping term G, c of the force elements: u = M_c^-1 G^T, the constrained acceleration
-// response to a unit generalised force along G^T:
+// ---- stage: stiffness terms (for the linearly implicit integrators) -----------------------------
+// For each term (G, c, k) of the force elements (DampingTerm): u = M_c^-1 G^T, the constrained
+// acceleration response to a unit generalised force along G^T:
 //   u = M^-1 G^T - M^-1 J^T mu,   J M^-1 J^T mu = J M^-1 G^T   (the enforced rows of this evaluation)
-// so that d(dV/dt)/dV ~ -sum c u G. Reuses the multipliers' factor (direct) or iterates on A (GS).
+// so that d(dV/dt)/dV ~ -sum c u G and d(dV/dt)/dx ~ -sum k u ds/dx. Reuses the multipliers' factor
+// (direct) or iterates on A (GS).
 template <class S> void dampingResponse(const Model<S>& m, Workspace<S>& w) {
   const Kins<S> K = w.kins();
   for (size_t f = 0; f < m.forces.size(); ++f)
@@ -234,6 +235,7 @@ template <class S> void dampingResponse(const Model<S>& m, Workspace<S>& w) {
   const int N = m.nBodies(), n = static_cast<int>(w.list.size());
   for (int e = 0; e < m.nDamping; ++e) {
     const DampingTerm<S>& d = w.damping[e];
+    if (exactZero(d.c) && exactZero(d.k)) continue;  // no part of W (a tyre in the air): its column is never read
     for (auto& z : w.zb) z.setZero();
     auto addBody = [&](int b, const Vec6<S>& G) {
       if (b < 0) return;
