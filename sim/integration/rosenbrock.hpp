@@ -18,8 +18,8 @@ namespace lg {
 //   (I + U C G) v = r_v - gamma h sum_e k_e U_e (H_e r_x),   C = gamma h diag(c_e + gamma h k_e),
 // solved by Woodbury, (I + U C G)^-1 b = b - U C (I + G U C)^-1 G b. (Without K the W-method keeps its
 // order but loses accuracy where a stiff damper couples to the positions: an overdamped oscillator at
-// h |lambda| = 100 erred by 2 %; without the k_e, ros34pw2's peak-load error on the seed gear's limit
-// drop at rtol 3e-3 is 30 times larger.)
+// h |lambda| = 100 erred by 2 %; on the seed gear's limit drop at rtol 3e-3, max step 0.05 s, ros34pw2
+// takes 104 steps to a peak-load error of 0.095 % without the k_e, 78 to 0.037 % with them.)
 template <class S> void solveW(StepContext<S>& c, double gh, bool withStiffness, VecX<S>& r) {
   solveVelocityW(c, gh, withStiffness, r);
   const int N = c.m.nBodies(), nx = c.m.nx();
@@ -60,7 +60,7 @@ template <class S> void solveVelocityW(StepContext<S>& c, double gh, bool withSt
   };
   const auto stiffness = [&](int f) { return withStiffness ? c.w.damping0[f].k : S(0); };
   for (int f = 0; f < k; ++f)  // the positions' share of the right-hand side
-    if (value(stiffness(f)) != 0.0)
+    if (!exactZero(stiffness(f)))
       r.segment(nx, c.m.nv()) -= (S(gh) * stiffness(f) * positionRate(c, c.w.damping0[f], r)) * c.w.U0.col(f);
   const auto rate = [&](int f) { return c.w.damping0[f].c + S(gh) * stiffness(f); };  // C = gamma h diag(rate)
   const auto coefficient = [&](int f) { return S(gh) * rate(f); };
