@@ -92,7 +92,8 @@ template <class S> struct ShockAbsorber {
 
   struct Eval {
     Vec3<S> a_i, a_j, e;
-    S s, sdot, p1, p2, gas, friction, orifice1, orifice2;
+    S s, sdot, gas, friction, orifice1, orifice2;
+    typename GasSpring<S>::Pressures pressures;  // p_1, p_2 (and the volumes once engaged)
     int sigma = 0;  // the slip direction of a Coulomb segment (0: stuck, held, or regularised)
     S force() const { return gas + friction + orifice1 + orifice2; }
   };
@@ -120,10 +121,8 @@ template <class S> struct ShockAbsorber {
     r.s = L0 - L;
     r.sdot = -r.e.dot(K[bi].pointVelocity(r.a_i) - K[bj].pointVelocity(r.a_j));
     const S F = area();
-    const typename GasSpring<S>::Pressures p = gasSpring().pressures(r.s, F);
-    r.p1 = p.p1;
-    r.p2 = p.p2;
-    r.gas = (r.p1 - pAtm) * F;
+    r.pressures = gasSpring().pressures(r.s, F);
+    r.gas = (r.pressures.p1 - pAtm) * F;
     r.sigma = coulomb ? K.slipOf(lockRow) : 0;
     if (coulomb) r.friction = S(r.sigma) * mu * r.gas;  // 0 when stuck (the lock reacts) or held
     else r.friction = mu * r.gas * smoothSign(r.sdot, frictionVelocity);
@@ -184,10 +183,10 @@ template <class S> struct ShockAbsorber {
     const Eval r = eval(K);
     const S F = area();
     const S frictionShare = coulomb ? S(r.sigma) * mu : mu * smoothSign(r.sdot, frictionVelocity);
-    const S k = F * gasSpring().pressureRate(r.s, F, gasSpring().pressures(r.s, F)) * (S(1) + frictionShare);
+    const S k = F * gasSpring().pressureRate(r.s, F, r.pressures) * (S(1) + frictionShare);
     const S v2 = r.sdot * r.sdot, e2 = S(frictionVelocity * frictionVelocity);
     const S q = v2 + e2;
-    S c = coulomb ? S(0) : mu * (r.p1 - pAtm) * F * e2 / (q * sqrt(q));
+    S c = coulomb ? S(0) : mu * (r.pressures.p1 - pAtm) * F * e2 / (q * sqrt(q));
     const bool ext = extending(r);
     const S fa = ext ? mainOrificeExtension(r.s) : mainOrifice(r.s);
     const S speed = r.sigma != 0 ? S(r.sigma) * r.sdot : magnitude(r.sdot);
@@ -210,13 +209,13 @@ template <class S> struct ShockAbsorber {
     const S lock = lockForce(K);  // a stuck Coulomb friction (the lock's reaction from the last solve)
     out[0] = r.s;
     out[1] = r.sdot;
-    out[2] = r.p1;
+    out[2] = r.pressures.p1;
     out[3] = r.force() + lock;
     out[4] = r.gas;
     out[5] = r.friction + lock;
     out[6] = r.orifice1;
     if (reboundOrifice) out[7] = r.orifice2;
-    if (twoStage) out[reboundOrifice ? 8 : 7] = r.p2;
+    if (twoStage) out[reboundOrifice ? 8 : 7] = r.pressures.p2;
   }
   // "<table>[k]": sample k (from 0) of a table's areas, or nullptr.
   static S* tableSample(const std::string& key, const std::string& table, std::vector<S>& values) {

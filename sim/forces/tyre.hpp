@@ -164,16 +164,12 @@ template <class S> struct Tyre {
   // both 0 off the ground. v_s = G V with G = (t, a_c x t): c_x = dP_x/dv_s = mu_x P_t eps^2 / (v_s^2 + eps^2)^(3/2).
   void damping(const Kins<S>& K_, DampingTerm<S>* d) const {
     const Contact r = contact(K_);
-    int k = 0;
-    {
-      const bool on = isPositive(r.delta) && isPositive(r.P);
-      d[k++].setAxial(body, kGround, normal, r.arm, Vec3<S>::Zero(),
-                      on && damped ? S(c * pow(r.delta / deltaMax, dampingExponent)) : S(0),
-                      on ? stiffness(r.delta) : S(0));
-    }
+    const bool on = isPositive(r.delta) && isPositive(r.P);
+    d[0].setAxial(body, kGround, normal, r.arm, Vec3<S>::Zero(),
+                  on && damped ? S(c * pow(r.delta / deltaMax, dampingExponent)) : S(0), on ? stiffness(r.delta) : S(0));
     if (longitudinal) {
       const S e2 = slipVelocity() * slipVelocity(), q = r.vSlip * r.vSlip + e2;
-      d[k++].setAxial(body, kGround, Vec3<S>(-forward), r.armContact, Vec3<S>::Zero(), muX * r.P * e2 / (q * sqrt(q)));
+      d[1].setAxial(body, kGround, Vec3<S>(-forward), r.armContact, Vec3<S>::Zero(), muX * r.P * e2 / (q * sqrt(q)));
     }
   }
   std::vector<std::string> outputNames() const {
