@@ -389,9 +389,13 @@ template <class S> void violation(const Model<S>& m, const std::vector<char>& ac
 // rows at a nearby state (the step's last evaluation): the Gauss-Newton iteration uses it instead of
 // factoring anew (it then contracts by the relative change of A over that distance, ~1e-3 for a stage
 // of the step, and takes the same two or three iterations).
-template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w, bool factorNearby = false) {
+// With 'rowsCurrent' the caller says that s.y's quaternions are of unit length and that the workspace
+// holds the kinematics and every row at s.y: the first iteration reads them instead of computing them
+// again (a step's end, checked for its violation before it is projected).
+template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w, bool factorNearby = false,
+                                bool rowsCurrent = false) {
   ScopedStage timer(w.timer, kStabilise, m.settings.profile);
-  normalizeQuaternions(m, s.y);
+  if (!rowsCurrent) normalizeQuaternions(m, s.y);
   const double tol = m.settings.projectionTolerance;
   bool factored = false;
   if (factorNearby && m.settings.solver == MultiplierSolver::Direct) {
@@ -408,8 +412,10 @@ template <class S> bool project(const Model<S>& m, State<S>& s, Workspace<S>& w,
   };
   bool current = false;  // kinematics and rows at the final positions
   for (int it = 0; it < 8; ++it) {
-    kinematics(m, s.y, w);
-    constraintRows(m, w, &s.active);
+    if (it > 0 || !rowsCurrent) {
+      kinematics(m, s.y, w);
+      constraintRows(m, w, &s.active);
+    }
     double pos, vel;
     violation(m, s.active, w, pos, vel);
     if (pos <= 0.01 * tol) {

@@ -79,7 +79,7 @@ template <class S> bool stepDopri(StepContext<S>& c, double h, double& hNext, Ru
       return true;
     }
     bool ended = false;
-    if (!endOnEvent(c, h, hNext, st, ended)) return false;
+    if (!endOnEvent(c, hNext, st, ended)) return false;
     if (ended) return true;
     // Smooth step: first same as last.
     c.w.ydot = k[6];

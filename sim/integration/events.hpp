@@ -80,6 +80,10 @@ template <class S> double locate(StepContext<S>& c, const DenseOutput<S>& dense,
   int side = 0;
   for (int it = 0; it < 200 && tb - ta > c.m.settings.eventTolerance; ++it) {
     double tc = (ga == gb) ? 0.5 * (ta + tb) : tb - gb * (tb - ta) / (gb - ga);
+    // The secant through the last point (on the "after" side, its value unscaled) rounds onto it: the
+    // root is at tb to the resolution of t (else the search bisected down to the tolerance, a strut's
+    // slip ending took 22 values instead of 7).
+    if (side == 1 && tc == tb) break;
     if (!(tc > ta && tc < tb)) tc = 0.5 * (ta + tb);
     const double gc = eventValueAt(c, dense, i, tc);
     if (after(gc)) {
@@ -101,6 +105,15 @@ template <class S> double locate(StepContext<S>& c, const DenseOutput<S>& dense,
 // the state back onto the earliest one. Returns false on failure.
 template <class S> bool handleEvents(StepContext<S>& c, const DenseOutput<S>& dense, RunStatus& st, bool& hadEvent) {
   hadEvent = false;
+  // The evaluations below (an event function that needs the multipliers, on the dense output) need f
+  // only: a located event is always followed by refresh(c), which takes the damping terms' responses
+  // at the state the next step starts from.
+  struct NoDampingResponse {
+    bool& flag;
+    const bool saved;
+    ~NoDampingResponse() { flag = saved; }
+  } noResponse{c.w.needDampingResponse, c.w.needDampingResponse};
+  c.w.needDampingResponse = false;
   const int nG = c.m.nRows + c.m.nForceEvents;
   int first = -1;
   double tFirst = 0;
@@ -193,16 +206,22 @@ template <class S> bool settleUnseenSlips(StepContext<S>& c, RunStatus& st) {
 
 // The events of an accepted adaptive step: if one triggered, the step ends on it ('ended'); the dense
 // output (valid on [t0, t0 + h]) still describes [t0, t_event] for the observer, the state may have
-// jumped (impact, projection), so f and g are refreshed and the next step starts small. Returns false
-// on failure.
-template <class S> bool endOnEvent(StepContext<S>& c, double h, double& hNext, RunStatus& st, bool& ended) {
+// jumped (impact, projection), so f and g are refreshed. 'hNext' holds the error controller's proposal
+// after the step; the next step takes half of it (kEventRestart): the mode changed, and a rejected step
+// costs a whole step's evaluations. (Restarting at a tenth of the step, as before, cost the seed gear's
+// limit drop 16 of its 63 steps at rtol 1e-2 in regrowing the step four-fold at a time after each of its
+// six events; at half the proposal it takes 47 steps to a peak-load error of 0.085 %, and the evaluations
+// over every case of every shipped scene fall by 2 .. 3 % at the same worst errors.) Returns false on
+// failure.
+constexpr double kEventRestart = 0.5;
+template <class S> bool endOnEvent(StepContext<S>& c, double& hNext, RunStatus& st, bool& ended) {
   if (!handleEvents(c, c.dense, st, ended)) {
     fail(c, st, "contact or projection solve failed after an event");
     return false;
   }
   if (!ended) return true;
   if (!refresh(c)) return failNonFinite(c, st);
-  hNext = std::max(h * 0.1, 1e-8);
+  hNext = std::max(kEventRestart * hNext, 1e-8);
   return true;
 }
 

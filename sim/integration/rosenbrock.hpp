@@ -156,6 +156,7 @@ template <class S> bool stepRosenbrock(StepContext<S>& c, const RosenbrockTablea
     // (f, multipliers, damping terms, event functions) is the only one even when it projects.
     c.s.y = c.w.y1;
     c.s.t = c.s.t + S(h);
+    normalizeQuaternions(c.m, c.s.y);  // (first: the rows below are then those the projection starts from)
     kinematics(c.m, c.s.y, c.w);
     constraintRows(c.m, c.w);
     if (slipReversedUnseen(c) && h > kSlipRetryFloor) {
@@ -166,7 +167,7 @@ template <class S> bool stepRosenbrock(StepContext<S>& c, const RosenbrockTablea
       continue;
     }
     bool projected = false;
-    if (!stabilise(c, st, projected)) {
+    if (!stabilise(c, st, projected, /*normalised=*/true)) {
       fail(c, st, "projection failed");
       return false;
     }
@@ -189,7 +190,7 @@ template <class S> bool stepRosenbrock(StepContext<S>& c, const RosenbrockTablea
     c.dense.f0 = &k[0];
     c.dense.f1 = &k[6];
     bool ended = false;
-    if (!endOnEvent(c, h, hNext, st, ended)) return false;
+    if (!endOnEvent(c, hNext, st, ended)) return false;
     if (ended) return true;
     c.w.g0 = c.w.g1;
     c.w.gRate0 = c.w.gRate1;

@@ -65,8 +65,10 @@ template <class S> bool failNonFinite(StepContext<S>& c, RunStatus& st) {
 
 // The stabilisation of an accepted state (the rows in the workspace must be current at s.y): records
 // the violation, then projects onto the constraint manifold if it exceeds the tolerance, or else only
-// renormalises the quaternions. Returns false if the projection fails; 'projected' says if it ran.
-template <class S> bool stabilise(StepContext<S>& c, RunStatus& st, bool& projected) {
+// renormalises the quaternions. 'normalised': the caller made the quaternions of unit length before it
+// computed the rows, so the projection starts from those rows (project's rowsCurrent). Returns false if
+// the projection fails; 'projected' says if it ran.
+template <class S> bool stabilise(StepContext<S>& c, RunStatus& st, bool& projected, bool normalised = false) {
   const Settings& cfg = c.m.settings;
   double pos, vel;
   violation(c.m, c.s.active, c.w, pos, vel);
@@ -75,11 +77,11 @@ template <class S> bool stabilise(StepContext<S>& c, RunStatus& st, bool& projec
   projected = cfg.stabilization == Stabilization::Projection &&
               (pos > cfg.projectionTolerance || vel > cfg.projectionTolerance);
   if (!projected) {
-    normalizeQuaternions(c.m, c.s.y);
+    if (!normalised) normalizeQuaternions(c.m, c.s.y);
     return true;
   }
   ++st.projections;
-  return project(c.m, c.s, c.w, /*factorNearby=*/true);  // the step's last evaluation factored A nearby
+  return project(c.m, c.s, c.w, /*factorNearby=*/true, normalised);  // the step's last evaluation factored A nearby
 }
 
 // After an accepted step or event whose end was evaluated: stabilise if needed, then refresh f and g.
