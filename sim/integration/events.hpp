@@ -208,11 +208,11 @@ template <class S> bool settleUnseenSlips(StepContext<S>& c, RunStatus& st) {
 // output (valid on [t0, t0 + h]) still describes [t0, t_event] for the observer, the state may have
 // jumped (impact, projection), so f and g are refreshed. 'hNext' holds the error controller's proposal
 // after the step; the next step takes half of it (kEventRestart): the mode changed, and a rejected step
-// costs a whole step's evaluations. (Restarting at a tenth of the step, as before, cost the seed gear's
-// limit drop 16 of its 63 steps at rtol 1e-2 in regrowing the step four-fold at a time after each of its
-// six events; at half the proposal it takes 47 steps to a peak-load error of 0.085 %, and the evaluations
-// over every case of every shipped scene fall by 2 .. 3 % at the same worst errors.) Returns false on
-// failure.
+// costs a whole step's evaluations. (Restarted at a tenth of the step that held the event, as before,
+// the seed gear's limit drop, six events, took 63 steps to a peak-load error of 0.108 % with ros34pw2 at
+// rtol 1e-2, the step regrowing at most four-fold a step after each; at half the proposal it takes 47
+// to 0.085 %, and the evaluations over every case of every shipped scene fall by 2 .. 3 %, the worst
+// errors within --accuracy's promise.) Returns false on failure.
 constexpr double kEventRestart = 0.5;
 template <class S> bool endOnEvent(StepContext<S>& c, double& hNext, RunStatus& st, bool& ended) {
   if (!handleEvents(c, c.dense, st, ended)) {

@@ -8,8 +8,8 @@
 #include <cstdio>
 
 #include "reference/reduced_seed_gear.hpp"
-#include "sim/accuracy.hpp"
 #include "reference/reduced_telescopic.hpp"
+#include "sim/accuracy.hpp"
 
 using lgtest::relDiff;
 
