@@ -325,13 +325,7 @@ template <class S> class DropObserver {
   static constexpr bool kDouble = std::is_same_v<S, double>;
   // Whether channels read on the dense output need the stuck friction locks' reactions (a full evaluation
   // each): set for a scope, restored at its end.
-  struct ReactionsNeeded {
-    bool& flag;
-    const bool saved;
-    ReactionsNeeded(bool& f, bool on) : flag(f), saved(f) { f = on; }
-    ~ReactionsNeeded() { flag = saved; }
-    void restore() { flag = saved; }
-  };
+  using ReactionsNeeded = ScopedFlag;
   bool recording() const {
     if constexpr (kDouble) return (rec_ && opt_.record) || rows_;
     else return rows_ != nullptr;

@@ -74,6 +74,18 @@ struct SolveReport {
   bool ok = true;
 };
 
+// A flag set for a scope and restored at its end (or earlier, by restore()): the workspace's
+// needDampingResponse while events are located, the drop observer's need for the locks' reactions.
+struct ScopedFlag {
+  bool& flag;
+  const bool saved;
+  ScopedFlag(bool& f, bool on) : flag(f), saved(f) { f = on; }
+  ~ScopedFlag() { flag = saved; }
+  ScopedFlag(const ScopedFlag&) = delete;
+  ScopedFlag& operator=(const ScopedFlag&) = delete;
+  void restore() { flag = saved; }
+};
+
 template <class S> struct Workspace {
   std::vector<BodyKin<S>> kin;       // N bodies + ground
   std::vector<Vec6<S>> wrench;       // (f, tau - w x I w) per body

@@ -108,12 +108,7 @@ template <class S> bool handleEvents(StepContext<S>& c, const DenseOutput<S>& de
   // The evaluations below (an event function that needs the multipliers, on the dense output) need f
   // only: a located event is always followed by refresh(c), which takes the damping terms' responses
   // at the state the next step starts from.
-  struct NoDampingResponse {
-    bool& flag;
-    const bool saved;
-    ~NoDampingResponse() { flag = saved; }
-  } noResponse{c.w.needDampingResponse, c.w.needDampingResponse};
-  c.w.needDampingResponse = false;
+  const ScopedFlag noResponse(c.w.needDampingResponse, false);
   const int nG = c.m.nRows + c.m.nForceEvents;
   int first = -1;
   double tFirst = 0;
