@@ -341,8 +341,9 @@ template <class S> void applyCorrection(const Model<S>& m, Workspace<S>& w, VecX
   }
 }
 
-// Puts the velocity of every guided or immobile body (Model::finalize) in its subspace: v along its axis
-// (the mass-weighted projection: translation only, isotropic mass), no rotation.
+// Puts the velocity of every guided, immobile or planar body (Model::finalize) in its subspace: v along
+// its axis (the mass-weighted projection: translation only, isotropic mass), no rotation; for a planar
+// body with normal n, v without its n part and omega along n.
 // Returns whether a velocity changed.
 template <class S> bool projectMobility(const Model<S>& m, VecX<S>& y) {
   const int N = m.nBodies();
@@ -351,12 +352,70 @@ template <class S> bool projectMobility(const Model<S>& m, VecX<S>& y) {
     if (m.mobility[b] == kFree) continue;
     const Vec6<S> before = y.template segment<6>(7 * N + 6 * b);
     auto v = y.template segment<3>(7 * N + 6 * b);
-    if (m.mobility[b] == kTranslation) v = m.mobilityAxis[b] * m.mobilityAxis[b].dot(Vec3<S>(v));
-    else v.setZero();
-    y.template segment<3>(7 * N + 6 * b + 3).setZero();
+    auto omega = y.template segment<3>(7 * N + 6 * b + 3);
+    const Vec3<S>& a = m.mobilityAxis[b];
+    if (m.mobility[b] == kPlanar) {
+      v = Vec3<S>(v) - a * a.dot(Vec3<S>(v));
+      omega = a * a.dot(Vec3<S>(omega));
+    } else {
+      if (m.mobility[b] == kTranslation) v = a * a.dot(Vec3<S>(v));
+      else v.setZero();
+      omega.setZero();
+    }
     for (int i = 0; i < 6; ++i) changed = changed || value(before[i]) != value(y[7 * N + 6 * b + i]);
   }
   return changed;
+}
+
+// The rows a planar model's motion satisfies by itself (Model::planar): a joint's row along the normal
+// (a point's out-of-plane offset, a tilt about an in-plane axis) has no part in the bodies' plane motions,
+// and a row whose plane part repeats other rows' (a revolute joint's second axis point) adds nothing to
+// them. Such a bilateral row is taken out of the mode at the run's start (active 0: never solved,
+// projected or reported; its multiplier 0): the rows' plane parts, J P with P each body's motions, at the
+// current positions, by Gram-Schmidt in row order; a row whose remainder is below 1e-8 of its own plane
+// part (or which has none) is implied. Its constraint then holds to round-off as long as the others do
+// (the motion stays in the plane). Unilateral rows and friction locks always stay. Rows and kinematics
+// are left at s.y. Allocates (once per run, before the first step).
+template <class S> int impliedPlanarRows(const Model<S>& m, State<S>& s, Workspace<S>& w) {
+  if (!m.settings.planar()) return 0;
+  kinematics(m, s.y, w);
+  constraintRows(m, w);
+  const int N = m.nBodies();
+  auto planePart = [&](int b, const Vec6<S>& J, Eigen::VectorXd& v) {
+    if (b < 0) return;
+    const BodyKin<S>& K = w.kin[b];
+    auto plain = [](const S& x, const S& y, const S& z) { return Vec3<double>(value(x), value(y), value(z)); };
+    const Vec3<double> a = plain(K.axis[0], K.axis[1], K.axis[2]), f = plain(J[0], J[1], J[2]), t = plain(J[3], J[4], J[5]);
+    if (K.mobility == kPlanar) {
+      v.segment<3>(6 * b) += f - a * a.dot(f);
+      v.segment<3>(6 * b + 3) += a * a.dot(t);
+    } else if (K.mobility == kTranslation) {
+      v.segment<3>(6 * b) += a * a.dot(f);
+    } else if (K.mobility == kFree) {
+      v.segment<3>(6 * b) += f;
+      v.segment<3>(6 * b + 3) += t;
+    }
+  };
+  std::vector<Eigen::VectorXd> basis;
+  int implied = 0;
+  for (int k = 0; k < m.nRows; ++k) {
+    const RowInfo& ri = m.rowInfo[k];
+    if (ri.unilateral || ri.friction() || !s.active[k]) continue;
+    Eigen::VectorXd v = Eigen::VectorXd::Zero(6 * N);
+    planePart(ri.bi, w.rows[k].Ji, v);
+    planePart(ri.bj, w.rows[k].Jj, v);
+    const double own = v.norm();
+    for (int pass = 0; pass < 2; ++pass)  // (twice, for round-off)
+      for (const auto& e : basis) v -= e.dot(v) * e;
+    if (own > 0 && v.norm() > 1e-8 * own) {
+      basis.push_back(v / v.norm());
+      continue;
+    }
+    s.active[k] = 0;
+    s.lambda[k] = S(0);
+    ++implied;
+  }
+  return implied;
 }
 
 // Keeps every quaternion of unit length.
@@ -499,7 +558,7 @@ template <class S> int resolveContacts(const Model<S>& m, State<S>& s, Workspace
   auto buildList = [&]() {
     w.list.clear();
     for (int k = 0; k < m.nRows; ++k)
-      if (!m.rowInfo[k].friction() && (!m.rowInfo[k].unilateral || w.candidate[k])) w.list.push_back(k);
+      if (!m.rowInfo[k].friction() && (m.rowInfo[k].unilateral ? w.candidate[k] : s.active[k])) w.list.push_back(k);
     computeW(m, w);
     assembleA(m, w);
   };

@@ -46,7 +46,8 @@ template <class S> class Integrator {
     const Settings& cfg = c_.m.settings;
     c_.w.needDampingResponse = isRosenbrock(cfg.integrator);
     c_.w.slip = c_.s.slip;
-    projectMobility(c_.m, c_.s.y);  // a guided or immobile body's velocity into its subspace
+    projectMobility(c_.m, c_.s.y);  // a guided, immobile or planar body's velocity into its subspace
+    impliedPlanarRows(c_.m, c_.s, c_.w);  // a planar model's rows that its plane motions satisfy by themselves
     // Initial contact modes (and impacts if a stop starts approaching), then a consistent state.
     if (resolveContacts(c_.m, c_.s, c_.w) < 0) return fail(c_, st, "contact solve failed at the start");
     if (cfg.stabilization != Stabilization::None && !project(c_.m, c_.s, c_.w))

@@ -22,9 +22,10 @@ template <class S> struct Body {
   template <class T> Body<T> cast() const { return {name, T(mass), castVec<T>(inertia)}; }
 };
 
-// How a body may move when its joint to the ground is eliminated (Model::finalize): freely (6 DOF), only
-// along a fixed world axis (a prismatic joint to the ground), or not at all (a fixed joint to the ground).
-enum Mobility : signed char { kFree = 0, kTranslation = 1, kImmobile = 2 };
+// How a body may move (Model::finalize): freely (6 DOF), only along a fixed world axis (a prismatic joint to
+// the ground eliminated), not at all (a fixed joint to the ground eliminated), or in the plane of a planar
+// model (translations perpendicular to its unit normal n, rotation about n: 3 DOF).
+enum Mobility : signed char { kFree = 0, kTranslation = 1, kImmobile = 2, kPlanar = 3 };
 
 // What the stages after "kinematics" read about one body at one instant.
 template <class S> struct BodyKin {
@@ -37,12 +38,14 @@ template <class S> struct BodyKin {
   S mass;           // [kg]
   S invMass;        // [1/kg]
   signed char mobility = kFree;  // see Mobility; set once by the workspace from the model
-  Vec3<S> axis = Vec3<S>::Zero();  // [-] the world axis of a kTranslation body
+  Vec3<S> axis = Vec3<S>::Zero();  // [-] the world axis of a kTranslation body, the plane normal n of a kPlanar one
 
   // The body's (restricted) inverse mass applied to a wrench (f, tau): for a free body
   // (f / m, I^-1 tau); for one guided along the unit axis a, the inverse mass restricted to its
   // motions S = (a, 0), S (S^T M S)^-1 S^T (f, tau) = (a (a.f) / m, 0) -- the exact elimination of the
-  // guide's five rows; for an immobile body 0.
+  // guide's five rows; for an immobile body 0; for a planar one with plane normal n (a principal axis of
+  // its inertia, checked where the scene is read), S = [(E3 - n n^T, 0), (0, n)]:
+  //   ((f - n (n.f)) / m, n (n.tau) / I_n),   I_n = n^T R I0 R^T n = I0 . (R^T n)^2 (componentwise).
   Vec6<S> invMassTimes(const Vec3<S>& f, const Vec3<S>& tau) const {
     Vec6<S> out;
     if (mobility == kFree) {
@@ -51,6 +54,10 @@ template <class S> struct BodyKin {
     } else if (mobility == kTranslation) {
       out.template head<3>() = axis * (axis.dot(f) * invMass);
       out.template tail<3>().setZero();
+    } else if (mobility == kPlanar) {
+      out.template head<3>() = (f - axis * axis.dot(f)) * invMass;
+      const Vec3<S> u = R.transpose() * axis;
+      out.template tail<3>() = axis * (axis.dot(tau) / I0.dot(u.cwiseProduct(u)));
     } else {
       out.setZero();
     }

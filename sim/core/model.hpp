@@ -36,6 +36,12 @@ struct Settings {
   double accuracy = 0;                // [-] the relative accuracy these settings were chosen for (applyAccuracy), 0: none
   bool eliminateGroundJoints = true;  // a body's prismatic or fixed joint to the ground restricts its
                                       // mobility instead of adding rows (exact; see Model::finalize)
+  // [-] a planar model's plane normal n (unit; zero: the model moves in space). Every free body then moves
+  // in the plane: it translates perpendicular to n and rotates about n (Mobility kPlanar), the rows a
+  // planar motion satisfies by itself are not solved (impliedPlanarRows), and an out-of-plane component
+  // of a force is carried by the plane.
+  Vec3<double> planeNormal = Vec3<double>::Zero();
+  bool planar() const { return planeNormal.squaredNorm() > 0; }
 };
 
 template <class S> struct Model {
@@ -49,8 +55,8 @@ template <class S> struct Model {
   std::vector<int> rowOffset;     // first row of each constraint
   std::vector<int> lockRow;       // per force element: its friction-lock row, or -1
   std::vector<int> bearingForces;  // the force elements with joint friction from bearing reactions (engine: bearingFriction)
-  std::vector<signed char> mobility;    // per body: kFree, or kTranslation / kImmobile by an eliminated ground joint
-  std::vector<Vec3<S>> mobilityAxis;    // per body: the world axis of a kTranslation body
+  std::vector<signed char> mobility;    // per body: kFree, kTranslation / kImmobile by an eliminated ground joint, kPlanar
+  std::vector<Vec3<S>> mobilityAxis;    // per body: the world axis of a kTranslation body, the plane normal of a kPlanar one
   std::vector<int> dissipationOffset, eventOffset, outputOffset, dampingOffset;  // per force element
   int nRows = 0, nDissipation = 0, nForceEvents = 0, nOutputs = 0, nDamping = 0;
   int nErrorChannels = 0;         // the first dissipation channels, error-controlled like x and V
@@ -93,6 +99,13 @@ template <class S> struct Model {
         eliminated[c] = 1;
       }
     }
+    // A planar model: every body not restricted above moves in the plane (BodyKin::invMassTimes).
+    if (settings.planar())
+      for (size_t b = 0; b < bodies.size(); ++b)
+        if (mobility[b] == kFree) {
+          mobility[b] = kPlanar;
+          mobilityAxis[b] = settings.planeNormal.template cast<S>();
+        }
     for (int c = 0; c < static_cast<int>(constraints.size()); ++c) {
       if (eliminated[c]) {
         rowOffset.push_back(-1);

@@ -91,6 +91,28 @@ void checkRedundantJoints(const Model<double>& m, const Workspace<double>& w, co
 
 // Initial state: positions from the bodies; every joint must hold there, and no joint may repeat
 // another.
+// A planar model (Settings::planeNormal): its plane motions must be those of the scene. The normal n must
+// be a principal axis of every planar body's inertia (else rotating about n would tilt it), a guided
+// body's axis and the drop direction must lie in the plane, and gravity may not leave it.
+void checkPlanar(const SceneBuilder& b) {
+  const Model<double>& m = b.m;
+  if (!m.settings.planar()) return;
+  const Vec3<double> n = m.settings.planeNormal;
+  auto fail = [&](const std::string& why) { throw InputError(b.file, b.planeLine, "scene.plane_normal", why); };
+  for (int k = 0; k < m.nBodies(); ++k) {
+    const Vec3<double> u = b.poses[k].R.transpose() * n;
+    if (m.mobility[k] == kPlanar && u.cwiseAbs().maxCoeff() < 1 - 1e-9)
+      fail("the plane's normal must be a principal axis of body '" + m.bodies[k].name +
+           "' (its inertia axes at t = 0); a planar model rotates each body about it");
+    if (m.mobility[k] == kTranslation && std::abs(m.mobilityAxis[k].dot(n)) > 1e-9)
+      fail("body '" + m.bodies[k].name + "' is guided along an axis that leaves the plane");
+  }
+  if (std::abs(b.sc.up.dot(n)) > 1e-9) fail("the drop direction (against gravity) must lie in the plane");
+  if (!m.bearingForces.empty())  // (it reads every row of its joint, some of which a planar model does not solve)
+    fail("a planar model cannot hold bearing friction ('" + m.forces[m.bearingForces[0]].name +
+         "' reads its joint's reactions out of the plane too): remove plane_normal");
+}
+
 void readInitialState(SceneBuilder& b) {
   const Model<double>& m = b.m;
   Scene& sc = b.sc;
@@ -116,6 +138,8 @@ void readInitialState(SceneBuilder& b) {
     }
   }
   checkRedundantJoints(m, w, b.file, b.constraintLine);
+  checkPlanar(b);
+  impliedPlanarRows(m, sc.initial, w);  // (a planar model: the rows out of its mode from the start)
 }
 
 // Physical consistency (sim/scene_check.hpp, which also derives each strut's S_max), named at the

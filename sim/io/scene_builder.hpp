@@ -59,6 +59,7 @@ struct SceneBuilder {
   std::vector<const toml::table*> forceTables;  // the [[force]] rows
   Vec3<double> g = Vec3<double>::Zero();        // the gravity element's g
   bool hasGravity = false;
+  int planeLine = 0;                            // [scene] plane_normal's line (a planar model)
 
   // Helpers of the steps (sim/io/scene_elements.cpp).
   // The element's name: valid, not "ground", not used before.

@@ -38,9 +38,13 @@ Vec3<double> SceneBuilder::dirToBody(int b, const Vec3<double>& d) const {
 void SceneBuilder::readSceneTable() {
   if (const toml::table* t = tableOf(doc, "scene", file)) {
     TomlReader r(*t, file, "scene");
-    r.allowOnly({"name", "airframe", "description"});
+    r.allowOnly({"name", "airframe", "description", "plane_normal"});
     sc.name = r.name("name", "scene");
     airframe = r.string("airframe", "");
+    if (r.has("plane_normal")) {  // a planar model (Settings::planeNormal; checked in readInitialState)
+      m.settings.planeNormal = r.unitVec3("plane_normal");
+      planeLine = r.lineOf("plane_normal");
+    }
   }
 }
 
