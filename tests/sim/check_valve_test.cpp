@@ -139,7 +139,9 @@ TEST_CASE("check valve in a drop: the compression unchanged, the rebound damped 
                  h.energy_balance_error);
   CHECK(h.peak_load_N == p.peak_load_N);
   CHECK(h.t_peak_s == p.t_peak_s);
-  CHECK(h.stroke_max_m == p.stroke_max_m);
+  // The step that holds the stroke's turn also holds the start of the extension, whose law its dense output
+  // sees (measured 7.9e-14 on the shipped planar seed gear; 0 in space, where that step ends at the turn).
+  CHECK(lgtest::relDiff(h.stroke_max_m, p.stroke_max_m) < 1e-12);
   CHECK(h.rebound_velocity_mps < p.rebound_velocity_mps);
   CHECK(h.energy_balance_error < 1e-6);
 }

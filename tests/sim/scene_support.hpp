@@ -50,6 +50,22 @@ inline toml::table referenceDoc(const std::string& rel) {
   return doc;
 }
 
+// A shipped (planar) scene's document as a model in space: without [scene] plane_normal (README: Planar
+// models). For the checks that lean on where the 3-D run's steps land (central differences between
+// neighbouring designs, a law that acts after the step holding a turning point) and for the elements a
+// planar model cannot hold (bearing friction).
+inline toml::table spatialDoc(toml::table doc) {
+  if (toml::table* t = doc["scene"].as_table()) t->erase("plane_normal");
+  return doc;
+}
+inline toml::table shippedSpatialDoc(const std::string& rel) { return spatialDoc(shippedDoc(rel)); }
+// The same for a scene file's text: its plane_normal line removed.
+inline std::string spatialText(std::string text) {
+  const auto at = text.find("\nplane_normal");
+  if (at != std::string::npos) text.erase(at + 1, text.find('\n', at + 1) - at);
+  return text;
+}
+
 // Builds a scene from an edited document; relative tables resolve against the shipped data/ folder.
 inline lg::Scene build(const toml::table& doc, const std::string& name = "edited.toml") {
   return lg::buildScene(doc, name, sourcePath("data"));
