@@ -32,7 +32,12 @@ template <class S> void kinematics(const Model<S>& m, const VecX<S>& y, Workspac
   for (int b = 0; b < N; ++b) {
     BodyKin<S>& K = w.kin[b];
     const Body<S>& B = m.bodies[b];
-    K.IwInv = K.R * B.inertia.cwiseInverse().asDiagonal() * K.R.transpose();
+    if (K.mobility == kPlanar) {  // the inverse inertia restricted to rotations about n (BodyKin::invMassTimes)
+      const Vec3<S> u = K.R.transpose() * K.axis;
+      K.IwInv = K.axis * (K.axis.transpose() / B.inertia.dot(u.cwiseProduct(u)));
+    } else {
+      K.IwInv = K.R * B.inertia.cwiseInverse().asDiagonal() * K.R.transpose();
+    }
     K.I0 = B.inertia;
     K.mass = B.mass;
     K.invMass = S(1) / B.mass;
@@ -367,7 +372,7 @@ template <class S> bool projectMobility(const Model<S>& m, VecX<S>& y) {
   return changed;
 }
 
-// The rows a planar model's motion satisfies by itself (Model::planar): a joint's row along the normal
+// The rows a planar model's motion satisfies by itself (Settings::planar): a joint's row along the normal
 // (a point's out-of-plane offset, a tilt about an in-plane axis) has no part in the bodies' plane motions,
 // and a row whose plane part repeats other rows' (a revolute joint's second axis point) adds nothing to
 // them. Such a bilateral row is taken out of the mode at the run's start (active 0: never solved,

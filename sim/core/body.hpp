@@ -34,7 +34,7 @@ template <class S> struct BodyKin {
   Vec3<S> v;        // [m/s] centre-of-mass velocity, world
   Vec3<S> w;        // [rad/s] angular velocity, world
   Vec3<S> I0;       // [kg m^2] principal inertia (body frame); the world inertia is R I0 R^T
-  Mat3<S> IwInv;    // [1/(kg m^2)] (R I0 R^T)^-1
+  Mat3<S> IwInv;    // [1/(kg m^2)] (R I0 R^T)^-1; of a planar body the restricted n n^T / I_n (invMassTimes)
   S mass;           // [kg]
   S invMass;        // [1/kg]
   signed char mobility = kFree;  // see Mobility; set once by the workspace from the model
@@ -45,7 +45,8 @@ template <class S> struct BodyKin {
   // motions S = (a, 0), S (S^T M S)^-1 S^T (f, tau) = (a (a.f) / m, 0) -- the exact elimination of the
   // guide's five rows; for an immobile body 0; for a planar one with plane normal n (a principal axis of
   // its inertia, checked where the scene is read), S = [(E3 - n n^T, 0), (0, n)]:
-  //   ((f - n (n.f)) / m, n (n.tau) / I_n),   I_n = n^T R I0 R^T n = I0 . (R^T n)^2 (componentwise).
+  //   ((f - n (n.f)) / m, n (n.tau) / I_n),   I_n = n^T R I0 R^T n = I0 . (R^T n)^2 (componentwise),
+  // the rotation's part held in IwInv = n n^T / I_n (kinematics), so that it is one product as for a free body.
   Vec6<S> invMassTimes(const Vec3<S>& f, const Vec3<S>& tau) const {
     Vec6<S> out;
     if (mobility == kFree) {
@@ -56,8 +57,7 @@ template <class S> struct BodyKin {
       out.template tail<3>().setZero();
     } else if (mobility == kPlanar) {
       out.template head<3>() = (f - axis * axis.dot(f)) * invMass;
-      const Vec3<S> u = R.transpose() * axis;
-      out.template tail<3>() = axis * (axis.dot(tau) / I0.dot(u.cwiseProduct(u)));
+      out.template tail<3>() = IwInv * tau;
     } else {
       out.setZero();
     }

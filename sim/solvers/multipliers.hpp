@@ -23,27 +23,23 @@ namespace lg {
 // W_k = M^-1 J_k^T for every row in work.list (M^-1 restricted for a guided or immobile body, see
 // BodyKin::invMassTimes).
 template <class S> void computeW(const Model<S>& m, Workspace<S>& w) {
+  auto side = [&](int b, const Vec6<S>& J, Vec6<S>& W) {
+    const BodyKin<S>& K = w.kin[b];
+    if (K.mobility == kFree) {
+      W.template head<3>() = K.invMass * J.template head<3>();
+      W.template tail<3>() = K.IwInv * J.template tail<3>();
+    } else if (K.mobility == kPlanar) {  // (BodyKin::invMassTimes, inline: most rows of a planar model)
+      W.template head<3>() = (J.template head<3>() - K.axis * K.axis.dot(J.template head<3>())) * K.invMass;
+      W.template tail<3>() = K.IwInv * J.template tail<3>();
+    } else {
+      W = K.invMassTimes(J.template head<3>(), J.template tail<3>());
+    }
+  };
   for (int k : w.list) {
     const RowInfo& ri = m.rowInfo[k];
     const Row<S>& row = w.rows[k];
-    if (ri.bi >= 0) {
-      const BodyKin<S>& K = w.kin[ri.bi];
-      if (K.mobility == kFree) {
-        w.Wi[k].template head<3>() = K.invMass * row.Ji.template head<3>();
-        w.Wi[k].template tail<3>() = K.IwInv * row.Ji.template tail<3>();
-      } else {
-        w.Wi[k] = K.invMassTimes(row.Ji.template head<3>(), row.Ji.template tail<3>());
-      }
-    }
-    if (ri.bj >= 0) {
-      const BodyKin<S>& K = w.kin[ri.bj];
-      if (K.mobility == kFree) {
-        w.Wj[k].template head<3>() = K.invMass * row.Jj.template head<3>();
-        w.Wj[k].template tail<3>() = K.IwInv * row.Jj.template tail<3>();
-      } else {
-        w.Wj[k] = K.invMassTimes(row.Jj.template head<3>(), row.Jj.template tail<3>());
-      }
-    }
+    if (ri.bi >= 0) side(ri.bi, row.Ji, w.Wi[k]);
+    if (ri.bj >= 0) side(ri.bj, row.Jj, w.Wj[k]);
   }
 }
 
