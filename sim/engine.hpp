@@ -356,17 +356,10 @@ template <class S> bool projectMobility(const Model<S>& m, VecX<S>& y) {
   for (int b = 0; b < N; ++b) {
     if (m.mobility[b] == kFree) continue;
     const Vec6<S> before = y.template segment<6>(7 * N + 6 * b);
-    auto v = y.template segment<3>(7 * N + 6 * b);
-    auto omega = y.template segment<3>(7 * N + 6 * b + 3);
-    const Vec3<S>& a = m.mobilityAxis[b];
-    if (m.mobility[b] == kPlanar) {
-      v = Vec3<S>(v) - a * a.dot(Vec3<S>(v));
-      omega = a * a.dot(Vec3<S>(omega));
-    } else {
-      if (m.mobility[b] == kTranslation) v = a * a.dot(Vec3<S>(v));
-      else v.setZero();
-      omega.setZero();
-    }
+    Vec3<S> v = before.template head<3>(), omega = before.template tail<3>();
+    restrictToMobility(m.mobility[b], m.mobilityAxis[b], v, omega);
+    y.template segment<3>(7 * N + 6 * b) = v;
+    y.template segment<3>(7 * N + 6 * b + 3) = omega;
     for (int i = 0; i < 6; ++i) changed = changed || value(before[i]) != value(y[7 * N + 6 * b + i]);
   }
   return changed;
@@ -386,20 +379,13 @@ template <class S> int impliedPlanarRows(const Model<S>& m, State<S>& s, Workspa
   kinematics(m, s.y, w);
   constraintRows(m, w);
   const int N = m.nBodies();
+  auto plain = [](const S* x) { return Vec3<double>(value(x[0]), value(x[1]), value(x[2])); };
   auto planePart = [&](int b, const Vec6<S>& J, Eigen::VectorXd& v) {
     if (b < 0) return;
-    const BodyKin<S>& K = w.kin[b];
-    auto plain = [](const S& x, const S& y, const S& z) { return Vec3<double>(value(x), value(y), value(z)); };
-    const Vec3<double> a = plain(K.axis[0], K.axis[1], K.axis[2]), f = plain(J[0], J[1], J[2]), t = plain(J[3], J[4], J[5]);
-    if (K.mobility == kPlanar) {
-      v.segment<3>(6 * b) += f - a * a.dot(f);
-      v.segment<3>(6 * b + 3) += a * a.dot(t);
-    } else if (K.mobility == kTranslation) {
-      v.segment<3>(6 * b) += a * a.dot(f);
-    } else if (K.mobility == kFree) {
-      v.segment<3>(6 * b) += f;
-      v.segment<3>(6 * b + 3) += t;
-    }
+    Vec3<double> f = plain(J.data()), t = plain(J.data() + 3);
+    restrictToMobility(m.mobility[b], plain(m.mobilityAxis[b].data()), f, t);
+    v.segment<3>(6 * b) += f;
+    v.segment<3>(6 * b + 3) += t;
   };
   std::vector<Eigen::VectorXd> basis;
   int implied = 0;

@@ -27,6 +27,20 @@ template <class S> struct Body {
 // model (translations perpendicular to its unit normal n, rotation about n: 3 DOF).
 enum Mobility : signed char { kFree = 0, kTranslation = 1, kImmobile = 2, kPlanar = 3 };
 
+// The part of a body-side 6-vector (lin, ang) in the body's motions (Mobility, axis a): the orthogonal
+// projection onto them. Velocities (projectMobility) and a row's plane part (impliedPlanarRows) use it.
+template <class T> void restrictToMobility(signed char mobility, const Vec3<T>& a, Vec3<T>& lin, Vec3<T>& ang) {
+  if (mobility == kFree) return;
+  if (mobility == kPlanar) {
+    lin = lin - a * a.dot(lin);
+    ang = a * a.dot(ang);
+    return;
+  }
+  if (mobility == kTranslation) lin = a * a.dot(lin);
+  else lin.setZero();
+  ang.setZero();
+}
+
 // What the stages after "kinematics" read about one body at one instant.
 template <class S> struct BodyKin {
   Vec3<S> r;        // [m] centre of mass, world
@@ -56,13 +70,16 @@ template <class S> struct BodyKin {
       out.template head<3>() = axis * (axis.dot(f) * invMass);
       out.template tail<3>().setZero();
     } else if (mobility == kPlanar) {
-      out.template head<3>() = (f - axis * axis.dot(f)) * invMass;
+      out.template head<3>() = inPlane(f) * invMass;
       out.template tail<3>() = IwInv * tau;
     } else {
       out.setZero();
     }
     return out;
   }
+
+  // A planar body's vector without its part along the plane normal.
+  Vec3<S> inPlane(const Vec3<S>& f) const { return f - axis * axis.dot(f); }
 
   // Angular momentum about the centre of mass, I_w w = R (I0 (R^T w)) (world).
   Vec3<S> angularMomentum() const { return R * I0.cwiseProduct(R.transpose() * w); }

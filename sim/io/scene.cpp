@@ -89,11 +89,9 @@ void checkRedundantJoints(const Model<double>& m, const Workspace<double>& w, co
   }
 }
 
-// Initial state: positions from the bodies; every joint must hold there, and no joint may repeat
-// another.
 // A planar model (Settings::planeNormal): its plane motions must be those of the scene. The normal n must
 // be a principal axis of every planar body's inertia (else rotating about n would tilt it), a guided
-// body's axis and the drop direction must lie in the plane, and gravity may not leave it.
+// body's axis and the drop direction (against gravity) must lie in the plane, and no bearing friction.
 void checkPlanar(const SceneBuilder& b) {
   const Model<double>& m = b.m;
   if (!m.settings.planar()) return;
@@ -113,6 +111,8 @@ void checkPlanar(const SceneBuilder& b) {
          "' reads its joint's reactions out of the plane too): remove plane_normal");
 }
 
+// Initial state: positions from the bodies; every joint must hold there, and no joint may repeat
+// another.
 void readInitialState(SceneBuilder& b) {
   const Model<double>& m = b.m;
   Scene& sc = b.sc;

@@ -20,7 +20,7 @@
 
 namespace lg {
 
-// W_k = M^-1 J_k^T for every row in work.list (M^-1 restricted for a guided or immobile body, see
+// W_k = M^-1 J_k^T for every row in work.list (M^-1 restricted for a guided, immobile or planar body, see
 // BodyKin::invMassTimes).
 template <class S> void computeW(const Model<S>& m, Workspace<S>& w) {
   auto side = [&](int b, const Vec6<S>& J, Vec6<S>& W) {
@@ -29,7 +29,7 @@ template <class S> void computeW(const Model<S>& m, Workspace<S>& w) {
       W.template head<3>() = K.invMass * J.template head<3>();
       W.template tail<3>() = K.IwInv * J.template tail<3>();
     } else if (K.mobility == kPlanar) {  // (BodyKin::invMassTimes, inline: most rows of a planar model)
-      W.template head<3>() = (J.template head<3>() - K.axis * K.axis.dot(J.template head<3>())) * K.invMass;
+      W.template head<3>() = K.inPlane(J.template head<3>()) * K.invMass;
       W.template tail<3>() = K.IwInv * J.template tail<3>();
     } else {
       W = K.invMassTimes(J.template head<3>(), J.template tail<3>());

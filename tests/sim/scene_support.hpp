@@ -79,5 +79,15 @@ inline const lg::DropCase& findCase(const lg::Scene& sc, const std::string& name
 }
 
 inline double relDiff(double a, double b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); }
+// The largest relative difference of a run's main metrics (peak load, stroke, travel, tyre deflection,
+// efficiency, absorbed energy) from a reference run's.
+inline double largestMetricDifference(const lg::CaseMetrics& a, const lg::CaseMetrics& ref) {
+  double worst = 0;
+  for (auto [x, y] : {std::pair{a.peak_load_N, ref.peak_load_N}, {a.stroke_max_m, ref.stroke_max_m}, {a.h_max_m, ref.h_max_m},
+                      {a.tyre_deflection_max_m, ref.tyre_deflection_max_m}, {a.efficiency, ref.efficiency},
+                      {a.energy_absorbed_J, ref.energy_absorbed_J}})
+    worst = std::max(worst, relDiff(x, y));
+  return worst;
+}
 
 }  // namespace lgtest

@@ -266,11 +266,7 @@ TEST_CASE("tyre table: sampled from the polynomial law, it reproduces it", "[tyr
     const auto b = lg::runCase(table, lgtest::findCase(table, name)).metrics;
     REQUIRE(a.ok);
     REQUIRE(b.ok);
-    double worst = 0;
-    for (auto [x, y] : {std::pair{a.peak_load_N, b.peak_load_N}, {a.stroke_max_m, b.stroke_max_m}, {a.h_max_m, b.h_max_m},
-                        {a.tyre_deflection_max_m, b.tyre_deflection_max_m}, {a.efficiency, b.efficiency},
-                        {a.energy_absorbed_J, b.energy_absorbed_J}})
-      worst = std::max(worst, lgtest::relDiff(y, x));
+    const double worst = lgtest::largestMetricDifference(b, a);
     lgtest::report("tyre table vs polynomial, %s: largest relative difference %.2e, energy balance %.2e", name, worst,
                    b.energy_balance_error);
     CHECK(worst < 1e-12);
