@@ -11,6 +11,7 @@
 
 #include <boost/math/distributions/students_t.hpp>
 #include <ceres/ceres.h>
+#include <glog/logging.h>
 
 namespace lg::calib {
 namespace {
@@ -279,7 +280,13 @@ ceres::Solver::Summary solve(const Calibration& c, const FitOptions& o, ceres::P
   Progress progress(o);
   so.callbacks.push_back(&progress);
   ceres::Solver::Summary summary;
+  // Ceres says why it stopped in the summary, which the fit reports; its own log lines (glog, on stderr)
+  // are held back meanwhile: a Ctrl-C during an evaluation fails that evaluation, and Ceres would log
+  // "Terminating: Residual and Jacobian evaluation failed." beside calibrate's one line.
+  const int minLogLevel = FLAGS_minloglevel;
+  FLAGS_minloglevel = google::GLOG_FATAL;
   ceres::Solve(so, &problem, &summary);
+  FLAGS_minloglevel = minLogLevel;
   return summary;
 }
 

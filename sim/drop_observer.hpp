@@ -149,13 +149,14 @@ template <class S> class DropObserver {
     if (airframe_ >= 0) r0_ = w.kin[airframe_].r;
     stepActive_ = s.active;
     stepSlip_ = s.slip;
-    at(s.t, s.y, s.active, s.slip, prev_);
+    wo_.implied = w.implied;  // (the rows the run's mode leaves out: the observer's evaluations skip them too)
+    channels(s.t, w, prev_);  // (the run's start is evaluated in w)
     EnergyReport<S> e = energy(m, s, w);
     e0_ = value(e.total());
     ek0_ = value(e.kinetic);
     uExt0_ = externalPotential(w);
     if (recording() && (opt_.outputTimes.empty() || opt_.outputTimes[0] <= 0)) {
-      record(value(s.t), wo_, s.lambda, s.active, w);  // t = 0 in every output mode but a list without it
+      record(value(s.t), w, s.lambda, s.active, w);  // t = 0 in every output mode but a list without it
       nextRow_ = 1;
     }
     F_.peak_load = prev_.Py;
@@ -245,9 +246,9 @@ template <class S> class DropObserver {
     checkBottom(s);
     if (recording() && denseRows()) recordDense(m, value(t0), value(t1), s, d);
     lazy.restore();
-    at(s.t, s.y, s.active, s.slip, after_);  // after any jump at t1: the next step's start
+    channels(s.t, w, after_);  // after any jump at t1: the next step's start, as the integrator evaluated it
     for (size_t k = 0; k < F_.struts.size(); ++k) F_.struts[k].force_max = maxByValue(F_.struts[k].force_max, after_.Pa[k]);
-    if (recording() && !denseRows()) record(value(s.t), wo_, s.lambda, s.active, w);
+    if (recording() && !denseRows()) record(value(s.t), w, s.lambda, s.active, w);
     stepActive_ = s.active;  // after any event at t1: the next step's mode
     stepSlip_ = s.slip;
     std::swap(prev_, after_);

@@ -91,6 +91,7 @@ template <class S> bool freeRows(const Model<S>& m, const std::vector<char>& enf
 // (written whether enforced or not: a slipping lock's J V is the rate its slip event watches). With
 // 'enforced' only the rows a solve in that mode reads: a free stop's or a slipping lock's row is left
 // as it was (the stages of a step, whose event functions are taken at its end, and the projections).
+// The rows the workspace marks implied by the mobility (w.implied) are never written.
 template <class S> void constraintRows(const Model<S>& m, Workspace<S>& w, const std::vector<char>* enforced = nullptr) {
   ScopedStage timer(w.timer, kRows, m.settings.profile);
   const Kins<S> K = w.kins();
@@ -98,7 +99,8 @@ template <class S> void constraintRows(const Model<S>& m, Workspace<S>& w, const
     if (m.rowOffset[c] < 0) continue;  // a joint to the ground eliminated into its body's mobility
     if (enforced && freeRows(m, *enforced, static_cast<int>(c))) continue;
     Row<S>* rows = w.rows.data() + m.rowOffset[c];
-    std::visit([&](const auto& con) { con.write(K[con.bi], K[con.bj], rows); }, m.constraints[c].type);
+    const ImpliedRows implied{w.implied.data() + m.rowOffset[c]};
+    std::visit([&](const auto& con) { con.write(K[con.bi], K[con.bj], rows, implied); }, m.constraints[c].type);
   }
   for (size_t f = 0; f < m.forces.size(); ++f) {
     if (m.lockRow[f] < 0 || (enforced && !(*enforced)[m.lockRow[f]])) continue;
@@ -121,7 +123,8 @@ template <class S> void ownerRows(const Model<S>& m, Workspace<S>& w, int k) {
     return;
   }
   Row<S>* rows = w.rows.data() + m.rowOffset[ri.constraint];
-  std::visit([&](const auto& con) { con.write(K[con.bi], K[con.bj], rows); }, m.constraints[ri.constraint].type);
+  const ImpliedRows implied{w.implied.data() + m.rowOffset[ri.constraint]};
+  std::visit([&](const auto& con) { con.write(K[con.bi], K[con.bj], rows, implied); }, m.constraints[ri.constraint].type);
 }
 
 // J_k V for row k.
@@ -372,9 +375,11 @@ template <class S> bool projectMobility(const Model<S>& m, VecX<S>& y) {
 // projected or reported; its multiplier 0): the rows' plane parts, J P with P each body's motions, at the
 // current positions, by Gram-Schmidt in row order; a row whose remainder is below 1e-8 of its own plane
 // part (or which has none) is implied. Its constraint then holds to round-off as long as the others do
-// (the motion stays in the plane). Unilateral rows and friction locks always stay. Rows and kinematics
-// are left at s.y. Allocates (once per run, before the first step).
+// (the motion stays in the plane). Unilateral rows and friction locks always stay. The workspace marks
+// them (w.implied): constraintRows no longer writes them. Rows and kinematics are left at s.y.
+// Allocates (once per run, before the first step).
 template <class S> int impliedPlanarRows(const Model<S>& m, State<S>& s, Workspace<S>& w) {
+  std::fill(w.implied.begin(), w.implied.end(), 0);
   if (!m.settings.planar()) return 0;
   kinematics(m, s.y, w);
   constraintRows(m, w);
@@ -404,8 +409,11 @@ template <class S> int impliedPlanarRows(const Model<S>& m, State<S>& s, Workspa
     }
     s.active[k] = 0;
     s.lambda[k] = S(0);
+    w.implied[k] = 1;
     ++implied;
   }
+  for (int k = 0; k < m.nRows; ++k)  // (and those a state given already had out of its mode)
+    if (!m.rowInfo[k].unilateral && !m.rowInfo[k].friction() && !s.active[k]) w.implied[k] = 1;
   return implied;
 }
 

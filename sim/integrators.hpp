@@ -40,7 +40,8 @@ template <class S> class Integrator {
   Integrator(const Model<S>& m, State<S>& s, Workspace<S>& w) : c_{m, s, w, {}, 1e-4} {}
 
   // Integrates from s.t to tEnd. The observer's onStep runs after every accepted step with the state
-  // at the step's end (kinematics, rows, multipliers and outputs current in the workspace).
+  // at the step's end (kinematics, rows, multipliers and outputs current in the workspace; dopri5 and
+  // the fixed steps evaluated it before renormalising its quaternions, a round-off apart from s.y).
   template <class Observer> RunStatus run(double tEnd, Observer& obs) {
     RunStatus st;
     const Settings& cfg = c_.m.settings;

@@ -20,7 +20,7 @@ template <class S> struct DistanceStop {
   S L;                   // [m] the limiting distance
   bool noFarther = true; // true: |d| <= L; false: |d| >= L
 
-  void write(const BodyKin<S>& Ki, const BodyKin<S>& Kj, Row<S>* rows) const {
+  void write(const BodyKin<S>& Ki, const BodyKin<S>& Kj, Row<S>* rows, ImpliedRows = {}) const {  // (never implied)
     const Vec3<S> a_i = Ki.R * rho_i;
     const Vec3<S> a_j = Kj.R * rho_j;
     const Vec3<S> d = (Kj.r + a_j) - (Ki.r + a_i);

@@ -18,12 +18,14 @@ template <class S> struct Fixed {
   Vec3<S> rho_ix, rho_iy;  // [m] p + l t_x and p + l t_y, in body i
   Vec3<S> t_y, t_z;        // [-] plane normals, in body j
 
-  void write(const BodyKin<S>& Ki, const BodyKin<S>& Kj, Row<S>* rows) const {
-    writeCoincidentPoints(Ki, rho_i, Kj, rho_j, rows);
-    const PlanePoint<S> px(Ki, rho_ix, Kj, rho_j);  // (the point's part of both rows, once)
-    px.write(Kj, t_y, rows[3]);
-    px.write(Kj, t_z, rows[4]);
-    writePointOnPlane(Ki, rho_iy, Kj, rho_j, t_z, rows[5]);
+  void write(const BodyKin<S>& Ki, const BodyKin<S>& Kj, Row<S>* rows, ImpliedRows implied = {}) const {
+    writeCoincidentPoints(Ki, rho_i, Kj, rho_j, rows, implied);
+    if (!implied.all(3, 5)) {
+      const PlanePoint<S> px(Ki, rho_ix, Kj, rho_j);  // (the point's part of both rows, once)
+      if (!implied(3)) px.write(Kj, t_y, rows[3]);
+      if (!implied(4)) px.write(Kj, t_z, rows[4]);
+    }
+    if (!implied(5)) writePointOnPlane(Ki, rho_iy, Kj, rho_j, t_z, rows[5]);
   }
   template <class T> Fixed<T> cast() const {
     return {bi, bj, castVec<T>(rho_i), castVec<T>(rho_j), castVec<T>(rho_ix), castVec<T>(rho_iy),

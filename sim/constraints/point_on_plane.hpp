@@ -18,8 +18,8 @@ template <class S> struct PointOnPlane {
   Vec3<S> rho_j;  // [m] a point of the plane, in body j
   Vec3<S> n0_j;   // [-] unit normal of the plane, in body j
 
-  void write(const BodyKin<S>& Ki, const BodyKin<S>& Kj, Row<S>* rows) const {
-    writePointOnPlane(Ki, rho_i, Kj, rho_j, n0_j, rows[0]);
+  void write(const BodyKin<S>& Ki, const BodyKin<S>& Kj, Row<S>* rows, ImpliedRows implied = {}) const {
+    if (!implied(0)) writePointOnPlane(Ki, rho_i, Kj, rho_j, n0_j, rows[0]);
   }
   template <class T> PointOnPlane<T> cast() const {
     return {bi, bj, castVec<T>(rho_i), castVec<T>(rho_j), castVec<T>(n0_j)};

@@ -20,11 +20,12 @@ template <class S> struct Revolute {
   Vec3<S> rho_i2;        // [m] a second point of the axis, in body i
   Vec3<S> n_a, n_b;      // [-] normals of two planes through the axis, in body j
 
-  void write(const BodyKin<S>& Ki, const BodyKin<S>& Kj, Row<S>* rows) const {
-    writeCoincidentPoints(Ki, rho_i, Kj, rho_j, rows);
+  void write(const BodyKin<S>& Ki, const BodyKin<S>& Kj, Row<S>* rows, ImpliedRows implied = {}) const {
+    writeCoincidentPoints(Ki, rho_i, Kj, rho_j, rows, implied);
+    if (implied.all(3, 5)) return;  // (a planar model: the axis is the plane's normal)
     const PlanePoint<S> p2(Ki, rho_i2, Kj, rho_j);  // (the axis point's part of both rows, once)
-    p2.write(Kj, n_a, rows[3]);
-    p2.write(Kj, n_b, rows[4]);
+    if (!implied(3)) p2.write(Kj, n_a, rows[3]);
+    if (!implied(4)) p2.write(Kj, n_b, rows[4]);
   }
   template <class T> Revolute<T> cast() const {
     return {bi, bj, castVec<T>(rho_i), castVec<T>(rho_j), castVec<T>(rho_i2), castVec<T>(n_a), castVec<T>(n_b)};

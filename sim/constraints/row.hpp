@@ -28,6 +28,19 @@ struct RowInfo {
   bool friction() const { return force >= 0; }
 };
 
+// The rows of one constraint that its write may leave as they are: those the bodies' mobility
+// satisfies by itself (a planar model's out-of-plane rows, impliedPlanarRows), which no solve,
+// projection or event reads. Empty: every row is written.
+struct ImpliedRows {
+  const char* implied = nullptr;  // per row of the constraint: 1 = implied (not written)
+  bool operator()(int k) const { return implied && implied[k]; }
+  bool all(int first, int last) const {  // rows [first, last) all implied
+    for (int k = first; k < last; ++k)
+      if (!(*this)(k)) return false;
+    return true;
+  }
+};
+
 // Writes one row of the type "point p_i of body i lies in the plane of body j through p_j with the
 // body-fixed unit normal n0_j" (method.md, type 2):
 //   C    = n . (p_i - p_j),                     n = R_j n0_j, d = p_i - p_j, a_i = p_i - r_i, a_j = p_j - r_j
@@ -69,7 +82,7 @@ inline void writePointOnPlane(const BodyKin<S>& Ki, const Vec3<S>& rho_i, const 
 //   J_i = (-E3, [a_i]x),  J_j = (E3, -[a_j]x),  gamma = w_j x (w_j x a_j) - w_i x (w_i x a_i)
 template <class S>
 inline void writeCoincidentPoints(const BodyKin<S>& Ki, const Vec3<S>& rho_i, const BodyKin<S>& Kj,
-                                  const Vec3<S>& rho_j, Row<S>* rows) {
+                                  const Vec3<S>& rho_j, Row<S>* rows, ImpliedRows implied = {}) {
   const Vec3<S> a_i = Ki.R * rho_i;
   const Vec3<S> a_j = Kj.R * rho_j;
   const Vec3<S> C = (Kj.r + a_j) - (Ki.r + a_i);
@@ -77,6 +90,7 @@ inline void writeCoincidentPoints(const BodyKin<S>& Ki, const Vec3<S>& rho_i, co
   const Mat3<S> Ai = skew(a_i);
   const Mat3<S> Aj = skew(a_j);
   for (int k = 0; k < 3; ++k) {
+    if (implied(k)) continue;
     rows[k].C = C[k];
     rows[k].gamma = g[k];
     rows[k].Ji.setZero();

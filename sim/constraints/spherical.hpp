@@ -16,8 +16,8 @@ template <class S> struct Spherical {
   int bi = kGround, bj = kGround;
   Vec3<S> rho_i, rho_j;  // [m] the joint point in each body's frame
 
-  void write(const BodyKin<S>& Ki, const BodyKin<S>& Kj, Row<S>* rows) const {
-    writeCoincidentPoints(Ki, rho_i, Kj, rho_j, rows);
+  void write(const BodyKin<S>& Ki, const BodyKin<S>& Kj, Row<S>* rows, ImpliedRows implied = {}) const {
+    writeCoincidentPoints(Ki, rho_i, Kj, rho_j, rows, implied);
   }
   template <class T> Spherical<T> cast() const { return {bi, bj, castVec<T>(rho_i), castVec<T>(rho_j)}; }
 };

@@ -90,7 +90,9 @@ template <class S> struct Workspace {
   std::vector<BodyKin<S>> kin;       // N bodies + ground
   std::vector<Vec6<S>> wrench;       // (f, tau - w x I w) per body
   std::vector<Vec6<S>> aFree;        // M^-1 (f, tau) per body
-  std::vector<Row<S>> rows;          // every row at the current configuration
+  std::vector<Row<S>> rows;          // every row at the current configuration (but the implied ones)
+  std::vector<char> implied;         // per row: satisfied by the bodies' mobility (impliedPlanarRows), not
+                                     // written by constraintRows (never in a solve, projection or event)
   std::vector<Vec6<S>> Wi, Wj;       // M^-1 J^T per row, body i and body j parts
   std::vector<int> list;             // the rows in the current solve
   MatX<S> A;                         // J M^-1 J^T over 'list'
@@ -151,6 +153,7 @@ template <class S> struct Workspace {
     wrench.assign(N, Vec6<S>::Zero());
     aFree.assign(N, Vec6<S>::Zero());
     rows.assign(R, Row<S>{S(0), S(0), Vec6<S>::Zero(), Vec6<S>::Zero()});
+    implied.assign(R, 0);
     Wi.assign(R, Vec6<S>::Zero());
     Wj.assign(R, Vec6<S>::Zero());
     list.reserve(R);

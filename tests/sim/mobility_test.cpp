@@ -92,6 +92,49 @@ TEST_CASE("a planar model moves as its scene in space does, with half the joints
   }
 }
 
+// The implied rows are not even written (w.implied, ImpliedRows): every constraint type leaves them as
+// they were, and writes its other rows with the bits of a full write.
+TEST_CASE("a planar model's implied rows are left unwritten, its other rows are written as in full",
+          "[engine][mobility][planar]") {
+  for (const char* file : {"data/seed_gear.toml", "data/telescopic_gear.toml"}) {
+    INFO(file);
+    const lg::Scene sc = lgtest::build(lgtest::shippedDoc(file));
+    const lg::DropCase& c = lgtest::findCase(sc, "limit");
+    const lg::Model<double> m = lg::caseModel(sc, c);
+    lg::State<double> s = lg::caseState(sc, m, c);
+    lg::Workspace<double> masked(m), full(m);
+    lg::impliedPlanarRows(m, s, masked);
+    int implied = 0;  // (out of the mode already in the scene's initial state, or now)
+    for (int k = 0; k < m.nRows; ++k) implied += !m.rowInfo[k].unilateral && !m.rowInfo[k].friction() && !s.active[k];
+    REQUIRE(implied > 0);
+    // a moved, turning state: the rows then differ from the initial ones in every entry
+    for (int b = 0; b < m.nBodies(); ++b) s.y.segment<6>(m.nx() + 6 * b) << 0.3 * b, -1.2, 0.0, 0.0, 0.0, 2.0 - b;
+    s.y[1] -= 0.01;
+    const double sentinel = 12345.0;
+    for (auto& row : masked.rows) row = {sentinel, sentinel, lg::Vec6<double>::Constant(sentinel), lg::Vec6<double>::Constant(sentinel)};
+    lg::kinematics(m, s.y, masked);
+    lg::kinematics(m, s.y, full);
+    lg::constraintRows(m, masked);
+    lg::constraintRows(m, full);
+    int marked = 0, untouched = 0, same = 0;
+    for (int k = 0; k < m.nRows; ++k) {
+      const lg::Row<double>& a = masked.rows[k];
+      const lg::Row<double>& b = full.rows[k];
+      if (masked.implied[k]) {
+        ++marked;
+        CHECK(!s.active[k]);
+        untouched += a.C == sentinel && a.gamma == sentinel && (a.Ji.array() == sentinel).all() && (a.Jj.array() == sentinel).all();
+      } else {
+        same += a.C == b.C && a.gamma == b.gamma && a.Ji == b.Ji && a.Jj == b.Jj;
+      }
+    }
+    lgtest::report("%s: %d of %d rows implied and left unwritten", file, marked, m.nRows);
+    CHECK(marked == implied);
+    CHECK(untouched == marked);
+    CHECK(same == m.nRows - marked);
+  }
+}
+
 TEST_CASE("a planar model: bad input names file, line, key and rule, exit status 2", "[mobility][planar][input]") {
   lgtest::TempDir dir("planar_bad");
   const std::string normal = "plane_normal = [0.0, 0.0, 1.0]";
