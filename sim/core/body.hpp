@@ -53,6 +53,7 @@ template <class S> struct BodyKin {
   S invMass;        // [1/kg]
   signed char mobility = kFree;  // see Mobility; set once by the workspace from the model
   Vec3<S> axis = Vec3<S>::Zero();  // [-] the world axis of a kTranslation body, the plane normal n of a kPlanar one
+  signed char planeAxis = -1;      // of a kPlanar body whose n is a coordinate axis (+-e_k): k, else -1
 
   // The body's (restricted) inverse mass applied to a wrench (f, tau): for a free body
   // (f / m, I^-1 tau); for one guided along the unit axis a, the inverse mass restricted to its
@@ -76,6 +77,14 @@ template <class S> struct BodyKin {
       out.setZero();
     }
     return out;
+  }
+
+  // The coordinate axis k of a unit vector that is +-e_k exactly, else -1.
+  static signed char coordinateAxis(const Vec3<S>& n) {
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(value(n[k])) == 1.0 && value(n[(k + 1) % 3]) == 0.0 && value(n[(k + 2) % 3]) == 0.0)
+        return static_cast<signed char>(k);
+    return -1;
   }
 
   // A planar body's vector without its part along the plane normal.

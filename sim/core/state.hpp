@@ -149,6 +149,7 @@ template <class S> struct Workspace {
     for (int b = 0; b < N; ++b) {
       kin[b].mobility = m.mobility[b];
       kin[b].axis = m.mobilityAxis[b];
+      if (m.mobility[b] == kPlanar) kin[b].planeAxis = BodyKin<S>::coordinateAxis(m.mobilityAxis[b]);
     }
     wrench.assign(N, Vec6<S>::Zero());
     aFree.assign(N, Vec6<S>::Zero());
