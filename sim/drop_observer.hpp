@@ -246,9 +246,9 @@ template <class S> class DropObserver {
     checkBottom(s);
     if (recording() && denseRows()) recordDense(m, value(t0), value(t1), s, d);
     lazy.restore();
-    channels(s.t, w, after_);  // after any jump at t1: the next step's start, as the integrator evaluated it
+    const Workspace<S>& endW = stepEnd(s, w, after_);  // after any jump at t1: the next step's start
     for (size_t k = 0; k < F_.struts.size(); ++k) F_.struts[k].force_max = maxByValue(F_.struts[k].force_max, after_.Pa[k]);
-    if (recording() && !denseRows()) record(value(s.t), w, s.lambda, s.active, w);
+    if (recording() && !denseRows()) record(value(s.t), endW, s.lambda, s.active, w);
     stepActive_ = s.active;  // after any event at t1: the next step's mode
     stepSlip_ = s.slip;
     std::swap(prev_, after_);
@@ -392,6 +392,19 @@ template <class S> class DropObserver {
     }
     forceOutputs(wo_);
     channels(t, wo_, c);
+  }
+  // The channels at the state s that closes a step, into c; returns the workspace they were read from. The
+  // integrator's own where its closing evaluation is at s.y itself (the Rosenbrock steps evaluate after
+  // the projection: no second evaluation here); else s.y is evaluated here (dopri5's closing evaluation
+  // is its last stage, at y1 before the quaternions' renormalisation; the fixed steps renormalise after
+  // theirs: a round-off apart).
+  const Workspace<S>& stepEnd(const State<S>& s, const Workspace<S>& w, Channels& c) {
+    if (isRosenbrock(m_.settings.integrator)) {
+      channels(s.t, w, c);
+      return w;
+    }
+    at(s.t, s.y, s.active, s.slip, c);
+    return wo_;
   }
   // On the dense output of the step in progress: its mode is the one it started with.
   void channelsAt(const S& t, const DenseOutput<S>& d, Channels& c) {

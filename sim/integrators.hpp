@@ -39,9 +39,10 @@ template <class S> class Integrator {
  public:
   Integrator(const Model<S>& m, State<S>& s, Workspace<S>& w) : c_{m, s, w, {}, 1e-4} {}
 
-  // Integrates from s.t to tEnd. The observer's onStep runs after every accepted step with the state
-  // at the step's end (kinematics, rows, multipliers and outputs current in the workspace; dopri5 and
-  // the fixed steps evaluated it before renormalising its quaternions, a round-off apart from s.y).
+  // Integrates from s.t to tEnd. The observer's onStart runs with the workspace evaluated at the start;
+  // onStep after every accepted step with the state at the step's end (kinematics, rows, multipliers and
+  // outputs current in the workspace: exactly at s.y for the Rosenbrock steps; dopri5 and the fixed steps
+  // evaluated it before renormalising its quaternions, a round-off apart).
   template <class Observer> RunStatus run(double tEnd, Observer& obs) {
     RunStatus st;
     const Settings& cfg = c_.m.settings;
