@@ -409,10 +409,9 @@ template <class S> int impliedPlanarRows(const Model<S>& m, State<S>& s, Workspa
     }
     s.active[k] = 0;
     s.lambda[k] = S(0);
-    w.implied[k] = 1;
     ++implied;
   }
-  for (int k = 0; k < m.nRows; ++k)  // (and those a state given already had out of its mode)
+  for (int k = 0; k < m.nRows; ++k)  // (found now, or out of the mode in the state given)
     if (!m.rowInfo[k].unilateral && !m.rowInfo[k].friction() && !s.active[k]) w.implied[k] = 1;
   return implied;
 }

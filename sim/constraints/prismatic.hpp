@@ -21,13 +21,7 @@ template <class S> struct Prismatic {
   Vec3<S> n_a, n_b;                // [-] normals of two planes through the axis, in body j
 
   void write(const BodyKin<S>& Ki, const BodyKin<S>& Kj, Row<S>* rows, ImpliedRows implied = {}) const {
-    const Vec3<S>* rho[2] = {&rho_i1, &rho_i2};
-    for (int p = 0; p < 2; ++p) {
-      if (implied.all(2 * p, 2 * p + 2)) continue;
-      const PlanePoint<S> point(Ki, *rho[p], Kj, rho_j);  // (each point's part once)
-      if (!implied(2 * p)) point.write(Kj, n_a, rows[2 * p]);
-      if (!implied(2 * p + 1)) point.write(Kj, n_b, rows[2 * p + 1]);
-    }
+    writeAxisPoints(Ki, rho_i1, rho_i2, Kj, rho_j, n_a, n_b, rows, implied);
     if (!implied(4)) writePointOnPlane(Ki, rho_i3, Kj, rho_j, n_b, rows[4]);
   }
   template <class T> Prismatic<T> cast() const {

@@ -78,6 +78,23 @@ inline void writePointOnPlane(const BodyKin<S>& Ki, const Vec3<S>& rho_i, const 
   PlanePoint<S>(Ki, rho_i, Kj, rho_j).write(Kj, n0_j, row);
 }
 
+// Writes the four rows of "two points of body i, rho_i1 and rho_i2, lie on the axis of body j through p_j"
+// (a sliding or prismatic joint): each point in the two planes through the axis with normals n_a, n_b
+// (rows 2 p and 2 p + 1 for point p), each point's part once (PlanePoint); a point whose both rows are
+// implied is skipped.
+template <class S>
+inline void writeAxisPoints(const BodyKin<S>& Ki, const Vec3<S>& rho_i1, const Vec3<S>& rho_i2, const BodyKin<S>& Kj,
+                            const Vec3<S>& rho_j, const Vec3<S>& n_a, const Vec3<S>& n_b, Row<S>* rows,
+                            ImpliedRows implied = {}) {
+  const Vec3<S>* rho[2] = {&rho_i1, &rho_i2};
+  for (int p = 0; p < 2; ++p) {
+    if (implied.all(2 * p, 2 * p + 2)) continue;
+    const PlanePoint<S> point(Ki, *rho[p], Kj, rho_j);
+    if (!implied(2 * p)) point.write(Kj, n_a, rows[2 * p]);
+    if (!implied(2 * p + 1)) point.write(Kj, n_b, rows[2 * p + 1]);
+  }
+}
+
 // Writes the three rows of "p_j - p_i = 0" (method.md, type 1):
 //   J_i = (-E3, [a_i]x),  J_j = (E3, -[a_j]x),  gamma = w_j x (w_j x a_j) - w_i x (w_i x a_i)
 template <class S>

@@ -62,7 +62,7 @@ template <class S> struct BodyKin {
   // its inertia, checked where the scene is read), S = [(E3 - n n^T, 0), (0, n)]:
   //   ((f - n (n.f)) / m, n (n.tau) / I_n),   I_n = n^T R I0 R^T n = I0 . (R^T n)^2 (componentwise),
   // the rotation's part held in IwInv = n n^T / I_n (kinematics), so that it is one product as for a free body.
-  Vec6<S> invMassTimes(const Vec3<S>& f, const Vec3<S>& tau) const {
+  [[gnu::always_inline]] Vec6<S> invMassTimes(const Vec3<S>& f, const Vec3<S>& tau) const {  // (inline: W, aFree)
     Vec6<S> out;
     if (mobility == kFree) {
       out.template head<3>() = invMass * f;
@@ -70,6 +70,11 @@ template <class S> struct BodyKin {
     } else if (mobility == kTranslation) {
       out.template head<3>() = axis * (axis.dot(f) * invMass);
       out.template tail<3>().setZero();
+    } else if (planeAxis >= 0) {  // n = +-e_a: the products below without their terms of exact zeros
+      out.template head<3>() = f * invMass;
+      out[planeAxis] = S(0);
+      out.template tail<3>().setZero();
+      out[3 + planeAxis] = IwInv(planeAxis, planeAxis) * tau[planeAxis];
     } else if (mobility == kPlanar) {
       out.template head<3>() = inPlane(f) * invMass;
       out.template tail<3>() = IwInv * tau;

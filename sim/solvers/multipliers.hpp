@@ -21,23 +21,12 @@
 namespace lg {
 
 // W_k = M^-1 J_k^T for every row in work.list (M^-1 restricted for a guided, immobile or planar body, see
-// BodyKin::invMassTimes). A planar body whose plane normal is a coordinate axis e_a has three non-zero
-// entries, (J_lin / m) but its a-th and J_ang,a / I_n: written as such (the products the general path
-// forms, without its terms of exact zeros: the same values).
+// BodyKin::invMassTimes; a free body's inline).
 template <class S> void computeW(const Model<S>& m, Workspace<S>& w) {
   auto side = [&](int b, const Vec6<S>& J, Vec6<S>& W) {
     const BodyKin<S>& K = w.kin[b];
     if (K.mobility == kFree) {
       W.template head<3>() = K.invMass * J.template head<3>();
-      W.template tail<3>() = K.IwInv * J.template tail<3>();
-    } else if (K.planeAxis >= 0) {
-      const int a = K.planeAxis;
-      W.template head<3>() = J.template head<3>() * K.invMass;
-      W[a] = S(0);
-      W.template tail<3>().setZero();
-      W[3 + a] = K.IwInv(a, a) * J[3 + a];
-    } else if (K.mobility == kPlanar) {  // (BodyKin::invMassTimes, inline: most rows of a planar model)
-      W.template head<3>() = K.inPlane(J.template head<3>()) * K.invMass;
       W.template tail<3>() = K.IwInv * J.template tail<3>();
     } else {
       W = K.invMassTimes(J.template head<3>(), J.template tail<3>());
