@@ -189,9 +189,11 @@ template <class S> class DropObserver {
     // Peak P_y where its rate (the sum of the tyres' P_t') goes from + to -.
     double tPy = -1;
     if (refine(prev_.PyDot, end_.PyDot, t0, t1, d, [](const Channels& c) { return c.Py; }, F_.peak_load, &F_.t_peak,
-               end_.Py, t1, &tPy) &&
-        tPy >= 0)
+               end_.Py, t1, &tPy, /*everyPeak=*/true) &&
+        tPy >= 0) {
       correctPeakTime(tPy, t0, t1, d);
+      lastRefinedTime_ = value(F_.t_peak);  // (this hump's time: the peak's own, polished)
+    }
     if (value(prev_.PyDot) > 0 && value(end_.PyDot) < 0) F_.loadHumps.push_back({lastRefinedTime_, lastRefinedValue_});
     for (size_t k = 0; k < F_.tyres.size(); ++k) {
       // P_t grows with delta: both peak where delta' goes from + to -.
@@ -247,6 +249,13 @@ template <class S> class DropObserver {
     if (recording() && denseRows()) recordDense(m, value(t0), value(t1), s, d);
     lazy.restore();
     const Workspace<S>& endW = stepEnd(s, w, after_);  // after any jump at t1: the next step's start
+    // Without an event at t1 the next step starts where this one ends, with the same slope f(s.y) (up to
+    // the step's projection): the rates at this step's end are also those at the next one's start.
+    startRates_ = rateFromDense_ && !d.endsOnEvent;
+    if (startRates_) {
+      after_.PyDot = end_.PyDot;
+      after_.dPt = end_.dPt;
+    }
     for (size_t k = 0; k < F_.struts.size(); ++k) F_.struts[k].force_max = maxByValue(F_.struts[k].force_max, after_.Pa[k]);
     if (recording() && !denseRows()) record(value(s.t), endW, s.lambda, s.active, w);
     stepActive_ = s.active;  // after any event at t1: the next step's mode
@@ -415,39 +424,53 @@ template <class S> class DropObserver {
   // A damped tyre's load rate holds c delta'', which its outputs cannot know (no accelerations there): with
   // one, the rates of P_y and of each damped tyre's P_t at the step's ends are one-sided differences on
   // the step's dense output, over 1e-6 of the step (their truncation, P'' tau / 2, and their round-off
-  // are far below the rates that matter: only their signs are used, to bracket the peaks).
+  // are far below the rates that matter: only their signs are used, to bracket the peaks). After a step
+  // that ended without an event, the rates at the start are the last step's at its end (startRates_).
   void denseRates(const S& t0, const S& t1, const DenseOutput<S>& d) {
     const S tau(1e-6 * (value(t1) - value(t0)));
-    channelsAt(t0 + tau, d, scratch_);
-    prev_.PyDot = (scratch_.Py - prev_.Py) / tau;
-    for (size_t k = 0; k < dampedTyre_.size(); ++k)
-      if (dampedTyre_[k]) prev_.dPt[k] = (scratch_.Pt[k] - prev_.Pt[k]) / tau;
+    if (!startRates_) {
+      channelsAt(t0 + tau, d, scratch_);
+      prev_.PyDot = (scratch_.Py - prev_.Py) / tau;
+      for (size_t k = 0; k < dampedTyre_.size(); ++k)
+        if (dampedTyre_[k]) prev_.dPt[k] = (scratch_.Pt[k] - prev_.Pt[k]) / tau;
+    }
     channelsAt(t1 - tau, d, scratch_);
     end_.PyDot = (end_.Py - scratch_.Py) / tau;
     for (size_t k = 0; k < dampedTyre_.size(); ++k)
       if (dampedTyre_[k]) end_.dPt[k] = (end_.Pt[k] - scratch_.Pt[k]) / tau;
   }
 
-  // The time of the peak load moves with the design: dt*/dp = -(dP'/dp) / P'' at t* (Jet only). P' and
-  // P'' are differences in time of P_y on the dense output itself (the function whose maximum t* is),
-  // with a step of 1e-3 of the integration step.
+  // The peak's time, polished: Brent's search locates it on values, to about 1e-9 s (there the values are
+  // equal to round-off), which is noise from one design to the next; one Newton step on P' = 0,
+  //   t* = t - P'(t) / P''(t),
+  // with P' and P'' central differences in time of P_y on the dense output itself (the function whose
+  // maximum t* is), places it to the differences' error, smoothly in the design. In a Jet run the same
+  // step carries the derivatives dt*/dp = -(dP'/dp) / P''. The difference step dt is 1e-2 of the
+  // integration step (inside it; at least 1e-3 of it). With T the peak's time scale (P'' ~ P / T^2) the
+  // rate's round-off, eps P / dt, moves t* by about eps T^2 / dt, its truncation, P''' dt^2 / 6, by about
+  // dt^2 / (6 T), smoothly: 1e-12 s at the tight tolerances' steps, 1e-7 s at the loosest. A step longer
+  // than ten times the search's tolerance is not taken (its value; its derivatives are): there the
+  // search's point is the better one. (At 1e-3 of the step the derivative part of P' carried the
+  // integration's error over a smaller dt: dt*/dp of the seed gear was 2e-5 off the differences.)
   void correctPeakTime(double t, const S& t0, const S& t1, const DenseOutput<S>& d) {
-    if constexpr (!kDouble) {
-      const double dt = 1e-3 * (value(t1) - value(t0));
-      channelsAt(S(t + dt), d, scratch_);
-      const S up = scratch_.Py;
-      channelsAt(S(t - dt), d, scratch_);
-      const S down = scratch_.Py;
-      channelsAt(S(t), d, scratch_);
-      const S rate = (up - down) / S(2 * dt);                                          // P' [N/s]
-      const double curvature = (value(up) - 2 * value(scratch_.Py) + value(down)) / (dt * dt);  // P'' [N/s^2]
-      if (curvature < 0) F_.t_peak = S(t) - (rate - S(value(rate))) / S(curvature);
+    const double h = value(t1) - value(t0), dt = std::max(1e-3 * h, std::min({1e-2 * h, t - value(t0), value(t1) - t}));
+    channelsAt(S(t + dt), d, scratch_);
+    const S up = scratch_.Py;
+    channelsAt(S(t - dt), d, scratch_);
+    const S down = scratch_.Py;
+    S mid;
+    if constexpr (kDouble) {
+      mid = lastRefinedValue_;  // (P_y at t, from the search)
     } else {
-      (void)t;
-      (void)t0;
-      (void)t1;
-      (void)d;
+      channelsAt(S(t), d, scratch_);
+      mid = scratch_.Py;
     }
+    const S rate = (up - down) / S(2 * dt);                                          // P' [N/s]
+    const double curvature = (value(up) - 2 * value(mid) + value(down)) / (dt * dt);  // P'' [N/s^2]
+    if (!(curvature < 0)) return;
+    const S step = rate / S(curvature);
+    const double searched = 10 * (std::sqrt(2.2e-16) * std::abs(t) + 1e-13 * std::max(1.0, value(t1)));  // (refine's tolerance)
+    F_.t_peak = std::abs(value(step)) <= searched ? S(t) - step : S(t) - (step - S(value(step)));
   }
 
   // A running maximum of a channel without a rate: from its values at the step's start, middle and
@@ -465,6 +488,16 @@ template <class S> class DropObserver {
     // over the step: a step that cannot reach the running maximum is not searched (a falling P_a after
     // its peak, every step).
     if (std::max({a, m, b}) + std::abs(a - m) + std::abs(m - b) < value(best)) return false;
+    // Samples equal to round-off (a stuck strut's constant P_a): a search would only sort round-off, in
+    // some forty evaluations (each a full one for P_a). The largest sample holds the maximum.
+    const double hi = std::max({a, m, b}), lo = std::min({a, m, b});
+    if (hi - lo <= 1e-14 * std::max(std::abs(hi), std::abs(lo))) {
+      if (!(hi > value(best))) return false;
+      const int at = b == hi ? 2 : (m == hi ? 1 : 0);  // (the latest of the largest)
+      best = at == 2 ? v1 : (at == 1 ? vm : v0);
+      if (tBest) *tBest = at == 2 ? t1 : (at == 1 ? S(0.5) * (t0 + t1) : t0);
+      return true;
+    }
     const bool atStart = !endOnly && a >= m && a >= b, atMiddle = m > b && (endOnly || m > a);
     if (atStart) {
       // The largest sample at the start: the maximum is inside [t0, t_mid] only if the channel rises at t0
@@ -621,26 +654,40 @@ template <class S> class DropObserver {
   // Updates the running maximum 'best' of a channel. If its rate goes from + to - inside the step, the
   // maximum is located on the dense output (Brent's search on values). Returns true if the maximum
   // moved; 'tFound' (optional) receives the time of an interior maximum (-1 if the end holds it).
+  // 'everyPeak': search every peak, also one below 'best' (P_y's humps, lastRefined*).
   template <class F>
   bool refine(const S& rate0, const S& rate1, const S& t0, const S& t1, const DenseOutput<S>& d, F f, S& best, S* tBest,
-              const S& endValue, const S& tEnd, double* tFound = nullptr) {
+              const S& endValue, const S& tEnd, double* tFound = nullptr, bool everyPeak = false) {
     S v = endValue, tv = tEnd;
     double interior = -1;
     // Rates of round-off size (a stuck strut's s', ~1e-17 m/s, changes sign at random): a maximum inside
     // could exceed the ends by at most |rate| h / 2, below the value's round-off: no search.
     const double reach = std::max(std::abs(value(rate0)), std::abs(value(rate1))) * (value(t1) - value(t0));
-    if (value(rate0) > 0 && value(rate1) < 0 && reach > 1e-14 * std::abs(value(endValue))) {
+    // Inside the step, its start, middle and end are known: a search that cannot reach the running
+    // maximum (see refineWithoutRate) is not made (a stroke at rest, its rate round-off).
+    const bool inStep = value(t0) >= value(prev_.t) && value(t1) <= value(end_.t);
+    const double f0 = inStep ? value(f(prev_)) : 0, fm = inStep ? value(f(mid_)) : 0, f1 = inStep ? value(f(end_)) : 0;
+    const bool reachable = everyPeak || !inStep || std::max({f0, fm, f1}) + std::abs(f0 - fm) + std::abs(fm - f1) >= value(best);
+    if (value(rate0) > 0 && value(rate1) < 0 && reach > 1e-14 * std::abs(value(endValue)) && reachable) {
       auto at = [&](double t) {
         channelsAt(S(t), d, scratch_);
         return value(f(scratch_));
       };
       // Brent's minimisation of -f (golden sections and parabolic steps, Forsythe, Malcolm & Moler's
-      // fmin; tolerance sqrt(eps) |t| + 1e-13, where the values are equal to round-off).
+      // fmin; tolerance sqrt(eps) |t| + 1e-13, where the values are equal to round-off). Inside the step
+      // it starts from the parabola through the step's start, middle and end (known: no evaluation).
       double fx = 0;
+      BrentStart start;
+      if (inStep) start = {3, {value(prev_.t), value(mid_.t), value(end_.t)}, {-f0, -fm, -f1}};
       const double tm = brentMinimise([&](double t) { return -at(t); }, value(t0), value(t1), std::sqrt(2.2e-16),
-                                      1e-13 * std::max(1.0, value(t1)), fx, [](double) { return false; });
-      channelsAt(S(tm), d, scratch_);
-      const S vm = f(scratch_);
+                                      1e-13 * std::max(1.0, value(t1)), fx, [](double) { return false; }, 100, start);
+      S vm;
+      if constexpr (kDouble) {
+        vm = -fx;  // (the value at tm, from the same evaluation)
+      } else {
+        channelsAt(S(tm), d, scratch_);  // (its derivatives)
+        vm = f(scratch_);
+      }
       lastRefinedTime_ = tm;
       lastRefinedValue_ = value(vm);
       if (value(vm) > value(v)) {
@@ -669,6 +716,7 @@ template <class S> class DropObserver {
   std::vector<int> tyreOut_, strutOut_, strutOutputs_, stopRows_, bottomRows_;
   std::vector<bool> dampedTyre_;  // per tyre: its load rate is taken on the dense output (denseRates)
   bool rateFromDense_ = false;
+  bool startRates_ = false;  // prev_'s rates of the damped tyres' loads and of P_y were taken at the last step's end
   std::vector<bool> dragTyre_;    // per tyre: it has a longitudinal force (P_x, its 5th output)
   bool drag_ = false;
   Vec3<S> r0_ = Vec3<S>::Zero();

@@ -11,13 +11,32 @@
 
 namespace lg {
 
-// Returns the best point x found, f(x) in fx; at most 'maxIter' evaluations after the first.
+// Three points where f is already known (the ends and the middle of a step, say), from which a search
+// may start: its first step is then the parabola through them, not a golden section.
+struct BrentStart {
+  int n = 0;  // 3, or 0 for none
+  double x[3] = {0, 0, 0}, f[3] = {0, 0, 0};
+};
+
+// Returns the best point x found, f(x) in fx; at most 'maxIter' evaluations after the first. With a
+// 'start' whose best point lies in [a, b] (the others may lie outside: they only shape the parabolas),
+// the search begins from its three points and needs no first evaluation.
 template <class F, class Done>
-double brentMinimise(F f, double a, double b, double rel, double abs, double& fx, Done done, int maxIter = 100) {
+double brentMinimise(F f, double a, double b, double rel, double abs, double& fx, Done done, int maxIter = 100,
+                     const BrentStart& start = {}) {
   const double cgold = 0.5 * (3.0 - std::sqrt(5.0));
-  double x = a + cgold * (b - a), wv = x, vv = x, e = 0, d = 0;
-  fx = f(x);
-  double fw = fx, fv = fx;
+  double x, wv, vv, fw, fv, e = 0, d = 0;
+  int best = 0;
+  for (int i = 1; i < start.n; ++i)
+    if (start.f[i] < start.f[best]) best = i;
+  if (start.n == 3 && start.x[best] >= a && start.x[best] <= b) {
+    const int i1 = (best + 1) % 3, i2 = (best + 2) % 3, wi = start.f[i1] <= start.f[i2] ? i1 : i2, vi = 3 - best - wi;
+    x = start.x[best], fx = start.f[best], wv = start.x[wi], fw = start.f[wi], vv = start.x[vi], fv = start.f[vi];
+    e = d = b - a;  // (the first two parabolic steps may take up to half the interval)
+  } else {
+    x = wv = vv = a + cgold * (b - a);
+    fx = fw = fv = f(x);
+  }
   for (int it = 0; it < maxIter && !done(fx); ++it) {
     const double xm = 0.5 * (a + b), tol1 = rel * std::abs(x) + abs / 3, tol2 = 2 * tol1;
     if (std::abs(x - xm) <= tol2 - 0.5 * (b - a)) break;

@@ -22,6 +22,9 @@ template <class S> struct DenseOutput {
   const VecX<S>* f0 = nullptr;  // dy/dt at t0 (Hermite)
   const VecX<S>* f1 = nullptr;  // dy/dt at t1 (Hermite)
   const std::vector<VecX<S>>* k = nullptr;  // Dopri stages
+  // The step ended on an event: the state at its end (s.t, s.y) may have jumped there (an impact, a mode
+  // change and its projection). Else that state is the interpolant's end, up to the step's projection.
+  bool endsOnEvent = false;
   void at(const S& t, VecX<S>& out) const {
     const S th = (t - t0) / S(h);
     if (kind == Dopri) {

@@ -195,6 +195,7 @@ template <class S> bool settleUnseenSlips(StepContext<S>& c, RunStatus& st) {
         c.s.slip[k] * value(rowVelocity(c.m, c.w, k)) < 0)
       setSlip(c.s, c.w, k, 0);
   ++st.events;
+  c.dense.endsOnEvent = true;
   if (resolveContacts(c.m, c.s, c.w) < 0) return false;
   return c.m.settings.stabilization == Stabilization::None || project(c.m, c.s, c.w);
 }
@@ -214,6 +215,7 @@ template <class S> bool endOnEvent(StepContext<S>& c, double& hNext, RunStatus& 
     fail(c, st, "contact or projection solve failed after an event");
     return false;
   }
+  c.dense.endsOnEvent = ended;
   if (!ended) return true;
   if (!refresh(c)) return failNonFinite(c, st);
   hNext = std::max(kEventRestart * hNext, 1e-8);

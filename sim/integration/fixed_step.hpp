@@ -87,6 +87,7 @@ template <class S> bool stepFixed(StepContext<S>& c, double h, RunStatus& st) {
   c.dense.y1 = &c.s.y;
   c.dense.f0 = &c.w.yerr;
   c.dense.f1 = &c.w.ydot;
+  c.dense.endsOnEvent = any;
   return true;
 }
 

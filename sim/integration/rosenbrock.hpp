@@ -173,14 +173,6 @@ template <class S> bool stepRosenbrock(StepContext<S>& c, const RosenbrockTablea
     }
     c.w.needDampingResponse = true;  // and after an event, refresh(c) takes it again
     if (!evaluate(c.m, c.s.y, c.s.active, c.s.lambda, c.w, c.w.ydot) || !allFinite(c.w.ydot)) return failNonFinite(c, st);
-    if (slipReversedUnseen(c)) {  // (down to the retry floor)
-      if (!settleUnseenSlips(c, st) || !refresh(c)) return failNonFinite(c, st);
-      k[6] = c.w.ydot;
-      hNext = std::max(h, 1e-8);
-      return true;
-    }
-    eventFunctions(c.m, c.s, c.s.lambda, c.w, c.w.g1);
-    freeStopRates(c.m, c.s, c.w, c.w.gRate1);
     k[6] = c.w.ydot;
     c.dense.kind = DenseOutput<S>::Hermite;
     c.dense.t0 = c.s.t - S(h);
@@ -189,6 +181,13 @@ template <class S> bool stepRosenbrock(StepContext<S>& c, const RosenbrockTablea
     c.dense.y1 = &c.w.y1;
     c.dense.f0 = &k[0];
     c.dense.f1 = &k[6];
+    if (slipReversedUnseen(c)) {  // (down to the retry floor)
+      if (!settleUnseenSlips(c, st) || !refresh(c)) return failNonFinite(c, st);
+      hNext = std::max(h, 1e-8);
+      return true;
+    }
+    eventFunctions(c.m, c.s, c.s.lambda, c.w, c.w.g1);
+    freeStopRates(c.m, c.s, c.w, c.w.gRate1);
     bool ended = false;
     if (!endOnEvent(c, hNext, st, ended)) return false;
     if (ended) return true;

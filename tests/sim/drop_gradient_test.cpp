@@ -45,14 +45,15 @@ std::vector<double> metricsAt(const lg::Scene& sc, const lg::DropCase& c, const 
 }
 
 // The median of central differences of every gradient metric at three relative steps ('scale' sets the
-// step of a parameter whose value is 0): 1e-3, 3e-4, 1e-4, and for t_peak 3e-3, 1e-3, 3e-4. A late
-// metering-pin sample bends the peak strut force enough that a step of 3e-3 is 5e-3 off (the differences
-// converge to the exact derivative as the step shrinks: 2.4391e7, 2.4504e7, 2.45214e7, 2.45230e7,
-// 2.452315e7 at 3e-3 .. 3e-5, exact 2.452313e7); the time of the peak is located on values, to about 1e-9
-// s, which a step of 1e-4 would turn into differences 2e-3 off.
+// step of a parameter whose value is 0): 1e-3, 3e-4, 1e-4. A late metering-pin sample bends the peak strut
+// force enough that a step of 3e-3 is 5e-3 off (the differences converge to the exact derivative as the
+// step shrinks: 2.4391e7, 2.4504e7, 2.45214e7, 2.45230e7, 2.452315e7 at 3e-3 .. 3e-5, exact 2.452313e7).
+// The time of the peak is smooth in the design to its Newton step's round-off (drop_observer.hpp,
+// correctPeakTime): located on values alone, to about 1e-9 s, its differences were 1e-3 off at a step of
+// 1e-3 and needed larger steps and a looser bound.
 std::vector<double> referenceDerivatives(const lg::Scene& sc, const lg::DropCase& c, const lg::Parameter& p, double scale) {
   const double x = lg::parameterValue(sc, p), base = std::max(std::abs(x), scale);
-  const double steps[4] = {3e-3, 1e-3, 3e-4, 1e-4};
+  const double steps[3] = {1e-3, 3e-4, 1e-4};
   std::vector<std::vector<double>> est;
   for (double h : steps) {
     const auto a = metricsAt(sc, c, p, x + h * base), b = metricsAt(sc, c, p, x - h * base);
@@ -60,11 +61,9 @@ std::vector<double> referenceDerivatives(const lg::Scene& sc, const lg::DropCase
     for (size_t i = 0; i < a.size(); ++i) d[i] = (a[i] - b[i]) / (2 * h * base);
     est.push_back(d);
   }
-  const auto metrics = lg::gradientMetrics();
   std::vector<double> out(est[0].size());
   for (size_t i = 0; i < out.size(); ++i) {
-    const size_t first = std::string_view(metrics[i].name) == "t_peak" ? 0 : 1;
-    std::vector<double> v{est[first][i], est[first + 1][i], est[first + 2][i]};
+    std::vector<double> v{est[0][i], est[1][i], est[2][i]};
     std::sort(v.begin(), v.end());
     out[i] = v[1];
   }
@@ -101,7 +100,7 @@ void compare(const std::string& label, const lg::Scene& sc, const lg::DropCase& 
       const double floor = 1e-3 * std::max(std::abs(md.value), lg::findMetric(md.metric)->scale) / std::max(std::abs(x), scale);
       const double err = std::abs(md.d[j] - fd[i]) / std::max({std::abs(fd[i]), floor, 1e-300});
       INFO(label << ": d " << md.metric << " / d " << ps[j].path << " exact " << md.d[j] << " differences " << fd[i]);
-      CHECK(err <= (md.metric == "t_peak" ? 5e-4 : 1e-4));
+      CHECK(err <= 1e-4);
       (md.metric == "t_peak" ? tally.worstPeakTime : tally.worst) =
           std::max(md.metric == "t_peak" ? tally.worstPeakTime : tally.worst, err);
       ++tally.compared;

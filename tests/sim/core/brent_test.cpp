@@ -39,3 +39,33 @@ TEST_CASE("brentMinimise: closed-form minima to its tolerance, few evaluations, 
   CHECK(std::abs(d - 0.5) <= 1e-2);
   CHECK(calls <= 4);  // achieved 4: the parabola's vertex is the minimum
 }
+
+TEST_CASE("brentMinimise from three known points: the same minimum, the first step their parabola's vertex", "[core][brent]") {
+  // A peak inside one step, as the drop observer searches it (the minimum of -P): P = 1 - u^2 + 0.3 u^3,
+  // u = (t - 0.0537) / 0.02, on the step [0.05, 0.06] whose start, middle and end are known.
+  int calls = 0;
+  auto f = [&](double t) {
+    ++calls;
+    const double u = (t - 0.0537) / 0.02;
+    return -(1 - u * u + 0.3 * u * u * u);
+  };
+  const double a = 0.05, b = 0.06, rel = std::sqrt(2.2e-16), abs = 1e-13;
+  const lg::BrentStart start{3, {a, 0.5 * (a + b), b}, {f(a), f(0.5 * (a + b)), f(b)}};
+  double fx = 0, fs = 0;
+  calls = 0;
+  const double plain = lg::brentMinimise(f, a, b, rel, abs, fx, [](double) { return false; });
+  const int plainCalls = calls;
+  calls = 0;
+  const double seeded = lg::brentMinimise(f, a, b, rel, abs, fs, [](double) { return false; }, 100, start);
+  const int seededCalls = calls;
+  // Both to the tolerance, 3 sqrt(eps) |t| = 2.4e-9 (achieved 2.5e-10 and 2.2e-10).
+  CHECK(std::abs(plain - 0.0537) < 3 * rel * 0.0537);
+  CHECK(std::abs(seeded - 0.0537) < 3 * rel * 0.0537);
+  CHECK(fs == f(seeded));
+  CHECK(plainCalls == 9);
+  CHECK(seededCalls == 7);  // no first evaluation, and no golden section: the vertex is near the peak
+  // A start whose best point lies outside [a, b] is not used: the plain search, point for point.
+  const lg::BrentStart outside{3, {0.0537, 0.07, 0.08}, {f(0.0537), f(0.07), f(0.08)}};
+  const double fallback = lg::brentMinimise(f, 0.055, 0.065, rel, abs, fx, [](double) { return false; }, 100, outside);
+  CHECK(fallback == lg::brentMinimise(f, 0.055, 0.065, rel, abs, fs, [](double) { return false; }));
+}
