@@ -8,7 +8,8 @@
 //   --plot DIR          DIR/accuracy_vs_time.{dat,gp,png} drawn by gnuplot
 //   --specialist PROG   also runs PROG --case <case> --rtol 1e-3 (the hand-derived reduced model of the seed
 //                       gear, ../shared/bench/specialist, built by the user) in the same go, and prints its
-//                       time per drop and the ratio of ours at 0.1 % to it
+//                       time per drop and the ratio of ours at 0.1 % to it; then five paired rounds (ours at
+//                       0.1 %, then the specialist) and the medians of their times and of their ratios
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -35,6 +36,12 @@ struct Setting {
   double tol;          // rtol (adaptive) or step (fixed)
   double maxStep = 0;  // [s] 0: the scene's
 };
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+constexpr int kPairedRounds = 5;
 
 // Median wall time of one drop over at least 'reps' runs (and at least 0.2 s of runs, for the fast ones).
 double timeCase(const lg::Scene& sc, const lg::DropCase& c, int reps, lg::CaseMetrics& m) {
@@ -213,11 +220,30 @@ int main(int argc, char** argv) {
   if (!specialist.empty()) {
     std::string peak;
     const double ts = runSpecialist(specialist, drop.name, peak);
-    if (ts > 0)
+    if (ts > 0) {
       std::printf("# specialist (%s, DP5 rtol 1e-3), same run: %.1f us per drop (%s); ours at 0.1 %%: %.0f times that\n",
                   specialist.c_str(), 1e6 * ts, peak.c_str(), best ? bestTime / ts : 0.0);
-    else
+      // Paired rounds: the fastest setting at 0.1 % and the specialist one after the other, five times, so
+      // that each ratio is taken while the machine runs at one speed (on a shared machine the times of one
+      // program move by half from minute to minute, the ratio much less).
+      if (best) {
+        const lg::Scene sc = configured(base, *best);
+        std::vector<double> ours, theirs, ratios;
+        for (int r = 0; r < kPairedRounds; ++r) {
+          lg::CaseMetrics m;
+          ours.push_back(timeCase(sc, drop, 9, m));
+          theirs.push_back(runSpecialist(specialist, drop.name, peak));
+          if (theirs.back() > 0) ratios.push_back(ours.back() / theirs.back());
+          std::printf("#   round %d: ours %.3f ms, specialist %.1f us, ratio %.1f\n", r + 1, 1e3 * ours.back(),
+                      1e6 * theirs.back(), theirs.back() > 0 ? ours.back() / theirs.back() : 0.0);
+        }
+        if (!ratios.empty())
+          std::printf("# paired rounds: ours %.3f ms, specialist %.1f us, ratio %.1f (medians of %d rounds)\n",
+                      1e3 * median(ours), 1e6 * median(theirs), median(ratios), kPairedRounds);
+      }
+    } else {
       std::printf("# specialist %s: no time/run in its output\n", specialist.c_str());
+    }
   }
   if (best)
     std::printf("target 0.1 %%: %.3f ms (%s rtol %g%s, error %.3f %%)\n", 1e3 * bestTime,
