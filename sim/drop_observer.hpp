@@ -333,6 +333,15 @@ template <class S> class DropObserver {
 
  private:
   static constexpr bool kDouble = std::is_same_v<S, double>;
+  // The extrema searches' tolerance on t (brentMinimise): sqrt(eps) |t| + 1e-13 max(1, t1), where values
+  // are equal to round-off.
+  static inline const double kSearchRel = std::sqrt(2.2e-16);
+  static double searchAbs(const S& t1) { return 1e-13 * std::max(1.0, value(t1)); }
+  // Whether a smooth channel sampled at three points of a step (a, m, b) may reach 'best' inside it: it
+  // rises above its largest sample by less than its variation over the step.
+  static bool canReach(double a, double m, double b, const S& best) {
+    return !(std::max({a, m, b}) + std::abs(a - m) + std::abs(m - b) < value(best));
+  }
   // Whether channels read on the dense output need the stuck friction locks' reactions (a full evaluation
   // each): set for a scope, restored at its end.
   using ReactionsNeeded = ScopedFlag;
@@ -469,7 +478,7 @@ template <class S> class DropObserver {
     const double curvature = (value(up) - 2 * value(mid) + value(down)) / (dt * dt);  // P'' [N/s^2]
     if (!(curvature < 0)) return;
     const S step = rate / S(curvature);
-    const double searched = 10 * (std::sqrt(2.2e-16) * std::abs(t) + 1e-13 * std::max(1.0, value(t1)));  // (refine's tolerance)
+    const double searched = 10 * (kSearchRel * std::abs(t) + searchAbs(t1));  // (refine's tolerance)
     F_.t_peak = std::abs(value(step)) <= searched ? S(t) - step : S(t) - (step - S(value(step)));
   }
 
@@ -487,7 +496,7 @@ template <class S> class DropObserver {
     // A smooth channel sampled at three points rises above its largest sample by less than its variation
     // over the step: a step that cannot reach the running maximum is not searched (a falling P_a after
     // its peak, every step).
-    if (std::max({a, m, b}) + std::abs(a - m) + std::abs(m - b) < value(best)) return false;
+    if (!canReach(a, m, b, best)) return false;
     // Samples equal to round-off (a stuck strut's constant P_a): a search would only sort round-off, in
     // some forty evaluations (each a full one for P_a). The largest sample holds the maximum.
     const double hi = std::max({a, m, b}), lo = std::min({a, m, b});
@@ -666,9 +675,13 @@ template <class S> class DropObserver {
     // Inside the step, its start, middle and end are known: a search that cannot reach the running
     // maximum (see refineWithoutRate) is not made (a stroke at rest, its rate round-off).
     const bool inStep = value(t0) >= value(prev_.t) && value(t1) <= value(end_.t);
-    const double f0 = inStep ? value(f(prev_)) : 0, fm = inStep ? value(f(mid_)) : 0, f1 = inStep ? value(f(end_)) : 0;
-    const bool reachable = everyPeak || !inStep || std::max({f0, fm, f1}) + std::abs(f0 - fm) + std::abs(fm - f1) >= value(best);
-    if (value(rate0) > 0 && value(rate1) < 0 && reach > 1e-14 * std::abs(value(endValue)) && reachable) {
+    double f0 = 0, fm = 0, f1 = 0;
+    auto reachable = [&] {  // (read only where the rates bracket a peak)
+      if (!inStep) return true;
+      f0 = value(f(prev_)), fm = value(f(mid_)), f1 = value(f(end_));
+      return everyPeak || canReach(f0, fm, f1, best);
+    };
+    if (value(rate0) > 0 && value(rate1) < 0 && reach > 1e-14 * std::abs(value(endValue)) && reachable()) {
       auto at = [&](double t) {
         channelsAt(S(t), d, scratch_);
         return value(f(scratch_));
@@ -679,8 +692,8 @@ template <class S> class DropObserver {
       double fx = 0;
       BrentStart start;
       if (inStep) start = {3, {value(prev_.t), value(mid_.t), value(end_.t)}, {-f0, -fm, -f1}};
-      const double tm = brentMinimise([&](double t) { return -at(t); }, value(t0), value(t1), std::sqrt(2.2e-16),
-                                      1e-13 * std::max(1.0, value(t1)), fx, [](double) { return false; }, 100, start);
+      const double tm = brentMinimise([&](double t) { return -at(t); }, value(t0), value(t1), kSearchRel, searchAbs(t1),
+                                      fx, [](double) { return false; }, 100, start);
       S vm;
       if constexpr (kDouble) {
         vm = -fx;  // (the value at tm, from the same evaluation)
