@@ -106,6 +106,7 @@ template <class S> struct Workspace {
   VecX<S> ydot;                      // derivative of y
   std::vector<VecX<S>> stages;       // integrator stages k1..k7
   VecX<S> y0, y1, yerr, ytmp;        // integrator scratch
+  Eigen::VectorXd errTerm;           // the scaled error of each component of a trial step
   VecX<S> g0, g1, g2, gtmp;          // event functions at step start / end / trials
   VecX<S> gRate0, gRate1;            // a free stop's dC/dt = J V at step start / end (interior dips)
   VecX<S> fTmp, lamTmp;              // scratch for event location
@@ -119,6 +120,9 @@ template <class S> struct Workspace {
   VecX<S> dampRhs, dampMu, smallT;   // scratch of the response and of the W solve
   MatX<S> smallM;                    // (I + G U C), nDamping x nDamping
   std::vector<int> termsInW;         // the terms of the W solve (those with a coefficient not exactly 0)
+  int termsInWCount = 0;             // how many (prepareVelocityW, once per trial step)
+  std::vector<int> smallPivot;       // the pivot rows of smallM's elimination
+  VecX<S> coefInW, stiffInW;         // per term in W: gamma h (c + gamma h k); per term: gamma h k
   std::vector<PairTerm> pairs;       // terms of J M^-1 J^T for that list, grouped by the sides (i/j)
   std::array<int, 5> pairGroup{};    // of the two rows: terms [pairGroup[g], pairGroup[g+1]) have sides (g/2, g%2)
   std::vector<int> order, pos;       // elimination order of the factor (order[t]: list index; pos: inverse)
@@ -166,6 +170,7 @@ template <class S> struct Workspace {
     forceEvents = VecX<S>::Zero(m.nForceEvents);
     outputs = VecX<S>::Zero(m.nOutputs);
     ydot = y0 = y1 = yerr = ytmp = VecX<S>::Zero(m.ny());
+    errTerm = Eigen::VectorXd::Zero(m.ny());
     stages.assign(7, VecX<S>::Zero(m.ny()));
     g0 = g1 = g2 = gtmp = VecX<S>::Zero(R + m.nForceEvents);
     gRate0 = gRate1 = VecX<S>::Zero(R);
@@ -175,6 +180,8 @@ template <class S> struct Workspace {
     pairList.reserve(R);
     damping.assign(m.nDamping, DampingTerm<S>{});
     termsInW.assign(m.nDamping, 0);
+    smallPivot.assign(m.nDamping, 0);
+    coefInW = stiffInW = VecX<S>::Zero(m.nDamping);
     damping0 = damping;
     U = U0 = MatX<S>::Zero(m.nv(), m.nDamping);
     zb.assign(N, Vec6<S>::Zero());

@@ -43,57 +43,97 @@ template <class S> S positionRate(const StepContext<S>& c, const DampingTerm<S>&
   return body(d.bi, d.Gi) + body(d.bj, d.Gj);
 }
 
-template <class S> void solveVelocityW(StepContext<S>& c, double gh, bool withStiffness, VecX<S>& r) {
+// The part of W's velocity solve that a trial step's stages share (gh, and the terms saved at its start):
+// the terms that change W, their coefficients gamma h (c_e + gamma h k_e) and the elimination of the
+// small matrix (I + G U C) with partial pivoting (its multipliers below the diagonal, the pivots in
+// smallPivot). solveVelocityW applies them to each stage's right-hand side.
+template <class S> void prepareVelocityW(StepContext<S>& c, double gh, bool withStiffness) {
   const int k = c.m.nDamping, nx = c.m.nx();
+  c.w.termsInWCount = 0;
   if (k == 0) return;
-  auto Gdot = [&](const DampingTerm<S>& d, const VecX<S>& v) {  // G . (velocity part of v)
-    S s(0);
-    if (d.bi >= 0) s += d.Gi.dot(v.template segment<6>(nx + 6 * d.bi));
-    if (d.bj >= 0) s += d.Gj.dot(v.template segment<6>(nx + 6 * d.bj));
-    return s;
-  };
   auto GdotU = [&](const DampingTerm<S>& d, int f) {
     S s(0);
     if (d.bi >= 0) s += d.Gi.dot(c.w.U0.col(f).template segment<6>(6 * d.bi));
     if (d.bj >= 0) s += d.Gj.dot(c.w.U0.col(f).template segment<6>(6 * d.bj));
     return s;
   };
+  (void)nx;
   const auto stiffness = [&](int f) { return withStiffness ? c.w.damping0[f].k : S(0); };
-  for (int f = 0; f < k; ++f)  // the positions' share of the right-hand side
-    if (!exactZero(stiffness(f)))
-      r.segment(nx, c.m.nv()) -= (S(gh) * stiffness(f) * positionRate(c, c.w.damping0[f], r)) * c.w.U0.col(f);
   const auto rate = [&](int f) { return c.w.damping0[f].c + S(gh) * stiffness(f); };  // C = gamma h diag(rate)
-  const auto coefficient = [&](int f) { return S(gh) * rate(f); };
   int n = 0;  // the terms that change W (an undamped tyre's in ros2, a tyre in the air: none)
-  for (int f = 0; f < k; ++f)
-    if (!exactZero(coefficient(f))) c.w.termsInW[n++] = f;
+  for (int f = 0; f < k; ++f) {
+    c.w.stiffInW[f] = S(gh) * stiffness(f);
+    const S coefficient = S(gh) * rate(f);
+    if (!exactZero(coefficient)) {
+      c.w.coefInW[n] = coefficient;
+      c.w.termsInW[n++] = f;
+    }
+  }
+  c.w.termsInWCount = n;
   const int* T = c.w.termsInW.data();
-  for (int e = 0; e < n; ++e) {
-    c.w.smallT[e] = Gdot(c.w.damping0[T[e]], r);
+  for (int e = 0; e < n; ++e)
     for (int f = 0; f < n; ++f)
       c.w.smallM(e, f) = (e == f ? S(1) : S(0)) + GdotU(c.w.damping0[T[e]], T[f]) * S(gh) * rate(T[f]);
-  }
-  // small dense solve (n terms), Gaussian elimination with partial pivoting
-  for (int j = 0; j < n; ++j) {
+  for (int j = 0; j < n; ++j) {  // Gaussian elimination with partial pivoting
     int p = j;
     for (int i = j + 1; i < n; ++i)
       if (std::abs(value(c.w.smallM(i, j))) > std::abs(value(c.w.smallM(p, j)))) p = i;
-    if (p != j) {
-      c.w.smallM.row(p).swap(c.w.smallM.row(j));
-      std::swap(c.w.smallT[p], c.w.smallT[j]);
-    }
+    c.w.smallPivot[j] = p;
+    if (p != j)  // (the active columns only: the multipliers of earlier columns stay where they were applied)
+      for (int col = j; col < n; ++col) std::swap(c.w.smallM(p, col), c.w.smallM(j, col));
     for (int i = j + 1; i < n; ++i) {
       const S f = c.w.smallM(i, j) / c.w.smallM(j, j);
-      for (int col = j; col < n; ++col) c.w.smallM(i, col) -= f * c.w.smallM(j, col);
-      c.w.smallT[i] -= f * c.w.smallT[j];
+      for (int col = j + 1; col < n; ++col) c.w.smallM(i, col) -= f * c.w.smallM(j, col);
+      c.w.smallM(i, j) = f;  // (the multiplier, for the right-hand sides)
     }
   }
-  for (int j = n - 1; j >= 0; --j) {
-    S s = c.w.smallT[j];
-    for (int col = j + 1; col < n; ++col) s -= c.w.smallM(j, col) * c.w.smallT[col];
-    c.w.smallT[j] = s / c.w.smallM(j, j);
+}
+
+template <class S> void solveVelocityW(StepContext<S>& c, double gh, bool withStiffness, VecX<S>& r) {
+  const int k = c.m.nDamping, nx = c.m.nx();
+  if (k == 0) return;
+  (void)gh;
+  auto Gdot = [&](const DampingTerm<S>& d, const VecX<S>& v) {  // G . (velocity part of v)
+    S s(0);
+    if (d.bi >= 0) s += d.Gi.dot(v.template segment<6>(nx + 6 * d.bi));
+    if (d.bj >= 0) s += d.Gj.dot(v.template segment<6>(nx + 6 * d.bj));
+    return s;
+  };
+  if (withStiffness)
+    for (int f = 0; f < k; ++f)  // the positions' share of the right-hand side
+      if (!exactZero(c.w.damping0[f].k))
+        r.segment(nx, c.m.nv()) -= (c.w.stiffInW[f] * positionRate(c, c.w.damping0[f], r)) * c.w.U0.col(f);
+  const int n = c.w.termsInWCount;
+  const int* T = c.w.termsInW.data();
+  S* t = c.w.smallT.data();
+  for (int e = 0; e < n; ++e) t[e] = Gdot(c.w.damping0[T[e]], r);
+  for (int j = 0; j < n; ++j) {  // the elimination of prepareVelocityW on the right-hand side
+    if (c.w.smallPivot[j] != j) std::swap(t[c.w.smallPivot[j]], t[j]);
+    for (int i = j + 1; i < n; ++i) t[i] -= c.w.smallM(i, j) * t[j];
   }
-  for (int f = 0; f < n; ++f) r.segment(nx, c.m.nv()) -= (coefficient(T[f]) * c.w.smallT[f]) * c.w.U0.col(T[f]);
+  for (int j = n - 1; j >= 0; --j) {
+    S s = t[j];
+    for (int col = j + 1; col < n; ++col) s -= c.w.smallM(j, col) * t[col];
+    t[j] = s / c.w.smallM(j, j);
+  }
+  for (int f = 0; f < n; ++f) r.segment(nx, c.m.nv()) -= (c.w.coefInW[f] * t[f]) * c.w.U0.col(T[f]);
+}
+
+// out = base + sum_q c[q] v[q] over n entries in one pass, the terms added in order: the same sums as
+// out = base, then out += c[q] v[q] for each q (out may be base).
+template <class S> void combine(S* out, const S* base, const double* c, const S* const* v, int terms, int n) {
+  using Map = Eigen::Map<VecX<S>>;
+  using CMap = Eigen::Map<const VecX<S>>;
+  Map o(out, n);
+  const CMap b(base, n);
+  switch (terms) {  // (coefficient-wise expressions: one pass, evaluated left to right)
+    case 0: if (out != base) o = b; return;
+    case 1: o = b + S(c[0]) * CMap(v[0], n); return;
+    case 2: o = b + S(c[0]) * CMap(v[0], n) + S(c[1]) * CMap(v[1], n); return;
+    case 3: o = b + S(c[0]) * CMap(v[0], n) + S(c[1]) * CMap(v[1], n) + S(c[2]) * CMap(v[2], n); return;
+    default:
+      o = b + S(c[0]) * CMap(v[0], n) + S(c[1]) * CMap(v[1], n) + S(c[2]) * CMap(v[2], n) + S(c[3]) * CMap(v[3], n);
+  }
 }
 
 // One step of a linearly implicit Rosenbrock-W method (RosenbrockTableau: ROS2 or ROS34PW2) in the
@@ -106,7 +146,9 @@ template <class S> void solveVelocityW(StepContext<S>& c, double gh, bool withSt
 template <class S> bool stepRosenbrock(StepContext<S>& c, const RosenbrockTableau& tab, double h, double& hNext, RunStatus& st) {
   const Settings& cfg = c.m.settings;
   auto& k = c.w.stages;  // k[0] = f(y_n), k[1..s] = U_1..U_s, k[6] = f(y_n+1)
-  const int nErr = c.m.nErr();
+  const int nErr = c.m.nErr(), ny = c.m.ny();
+  double coef[4];
+  const S* vecs[4];
   k[0] = c.w.ydot;
   c.w.U0 = c.w.U;  // the damping terms at y_n (the last evaluation was at s.y)
   c.w.damping0 = c.w.damping;
@@ -116,6 +158,7 @@ template <class S> bool stepRosenbrock(StepContext<S>& c, const RosenbrockTablea
     c.w.y0 = c.s.y;
     bool ok = true;
     const double gh = tab.gamma * h;
+    prepareVelocityW(c, gh, tab.stiffnessInW);
     for (int i = 0; i < tab.stages; ++i) {
       VecX<S>& U = k[1 + i];
       if (i == 0) {
@@ -123,29 +166,50 @@ template <class S> bool stepRosenbrock(StepContext<S>& c, const RosenbrockTablea
       } else {
         {
           ScopedStage timer(c.w.timer, kIntegrate, cfg.profile);
-          c.w.ytmp = c.w.y0;
+          int terms = 0;
           for (int j = 0; j < i; ++j)
-            if (tab.A[i][j] != 0) c.w.ytmp += S(tab.A[i][j]) * k[1 + j];
+            if (tab.A[i][j] != 0) {
+              coef[terms] = tab.A[i][j];
+              vecs[terms++] = k[1 + j].data();
+            }
+          combine(c.w.ytmp.data(), c.w.y0.data(), coef, vecs, terms, ny);
         }
         ok = evaluate(c.m, c.w.ytmp, c.s.active, c.s.lambda, c.w, U, RowsFor::Solve) && ok;
       }
       ScopedStage timer(c.w.timer, kIntegrate, cfg.profile);
+      int terms = 0;
       for (int j = 0; j < i; ++j)
-        if (tab.C[i][j] != 0) U += S(tab.C[i][j] / h) * k[1 + j];
+        if (tab.C[i][j] != 0) {
+          coef[terms] = tab.C[i][j] / h;
+          vecs[terms++] = k[1 + j].data();
+        }
+      combine(U.data(), U.data(), coef, vecs, terms, ny);
       solveW(c, gh, tab.stiffnessInW, U);
       U *= S(gh);
     }
     double err = 0;
     {
       ScopedStage timer(c.w.timer, kIntegrate, cfg.profile);
-      c.w.y1 = c.w.y0;
-      for (int j = 0; j < tab.stages; ++j) c.w.y1 += S(tab.m[j]) * k[1 + j];
-      for (int i = 0; i < nErr; ++i) {
-        double e = 0;
-        for (int j = 0; j < tab.stages; ++j) e += tab.e[j] * value(k[1 + j][i]);
-        const double sc = cfg.atol + cfg.rtol * std::max(std::abs(value(c.w.y0[i])), std::abs(value(c.w.y1[i])));
-        err += (e / sc) * (e / sc);
+      for (int j = 0; j < tab.stages; ++j) vecs[j] = k[1 + j].data();
+      combine(c.w.y1.data(), c.w.y0.data(), tab.m, vecs, tab.stages, ny);
+      // The scaled error of each component in one pass (vectorisable), then their squares summed in order.
+      double* q = c.w.errTerm.data();
+      const auto scaled = [&](int i, double e) {
+        return e / (cfg.atol + cfg.rtol * std::max(std::abs(value(c.w.y0[i])), std::abs(value(c.w.y1[i]))));
+      };
+      if (tab.stages == 4) {
+        const S *k1 = vecs[0], *k2 = vecs[1], *k3 = vecs[2], *k4 = vecs[3];
+        const double e1 = tab.e[0], e2 = tab.e[1], e3 = tab.e[2], e4 = tab.e[3];
+        for (int i = 0; i < nErr; ++i)
+          q[i] = scaled(i, (((0.0 + e1 * value(k1[i])) + e2 * value(k2[i])) + e3 * value(k3[i])) + e4 * value(k4[i]));
+      } else {
+        for (int i = 0; i < nErr; ++i) {
+          double e = 0;
+          for (int j = 0; j < tab.stages; ++j) e += tab.e[j] * value(vecs[j][i]);
+          q[i] = scaled(i, e);
+        }
       }
+      for (int i = 0; i < nErr; ++i) err += q[i] * q[i];
       err = std::sqrt(err / nErr);
     }
     const Trial trial = judge(c, ok, err, expo, h, st);
