@@ -21,7 +21,7 @@ namespace lg {
 // h |lambda| = 100 erred by 2 %; on the seed gear's limit drop at rtol 3e-3, max step 0.05 s, ros34pw2
 // takes 104 steps to a peak-load error of 0.095 % without the k_e, 78 to 0.037 % with them.)
 template <class S> void solveW(StepContext<S>& c, double gh, bool withStiffness, VecX<S>& r) {
-  solveVelocityW(c, gh, withStiffness, r);
+  solveVelocityW(c, withStiffness, r);
   const int N = c.m.nBodies(), nx = c.m.nx();
   for (int b = 0; b < N; ++b) {
     r.template segment<3>(7 * b) += S(gh) * r.template segment<3>(nx + 6 * b);
@@ -48,7 +48,7 @@ template <class S> S positionRate(const StepContext<S>& c, const DampingTerm<S>&
 // small matrix (I + G U C) with partial pivoting (its multipliers below the diagonal, the pivots in
 // smallPivot). solveVelocityW applies them to each stage's right-hand side.
 template <class S> void prepareVelocityW(StepContext<S>& c, double gh, bool withStiffness) {
-  const int k = c.m.nDamping, nx = c.m.nx();
+  const int k = c.m.nDamping;
   c.w.termsInWCount = 0;
   if (k == 0) return;
   auto GdotU = [&](const DampingTerm<S>& d, int f) {
@@ -57,7 +57,6 @@ template <class S> void prepareVelocityW(StepContext<S>& c, double gh, bool with
     if (d.bj >= 0) s += d.Gj.dot(c.w.U0.col(f).template segment<6>(6 * d.bj));
     return s;
   };
-  (void)nx;
   const auto stiffness = [&](int f) { return withStiffness ? c.w.damping0[f].k : S(0); };
   const auto rate = [&](int f) { return c.w.damping0[f].c + S(gh) * stiffness(f); };  // C = gamma h diag(rate)
   int n = 0;  // the terms that change W (an undamped tyre's in ros2, a tyre in the air: none)
@@ -89,10 +88,9 @@ template <class S> void prepareVelocityW(StepContext<S>& c, double gh, bool with
   }
 }
 
-template <class S> void solveVelocityW(StepContext<S>& c, double gh, bool withStiffness, VecX<S>& r) {
+template <class S> void solveVelocityW(StepContext<S>& c, bool withStiffness, VecX<S>& r) {
   const int k = c.m.nDamping, nx = c.m.nx();
   if (k == 0) return;
-  (void)gh;
   auto Gdot = [&](const DampingTerm<S>& d, const VecX<S>& v) {  // G . (velocity part of v)
     S s(0);
     if (d.bi >= 0) s += d.Gi.dot(v.template segment<6>(nx + 6 * d.bi));
