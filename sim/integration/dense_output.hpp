@@ -1,5 +1,7 @@
 // The dense output of an accepted step, y(t) on [t0, t0 + h]: Dormand-Prince's own continuous
-// extension (4th order) or a cubic Hermite between the step's ends; and derivativePart, what an
+// extension (4th order); a Rosenbrock method's, the positions by the cubic Hermite between the step's
+// ends and the velocities by the method's own extension (3rd order, RosenbrockTableau::hasDense); or a
+// cubic Hermite of every component; and derivativePart, what an
 // event-time Newton correction moves.
 #pragma once
 
@@ -14,14 +16,16 @@ template <class S> inline S derivativePart(const S& x) { return x - S(value(x));
 
 // Dense output over the last accepted step, y(t) for t in [t0, t0 + h].
 template <class S> struct DenseOutput {
-  enum Kind { Hermite, Dopri } kind = Hermite;
+  enum Kind { Hermite, Dopri, Rosenbrock } kind = Hermite;
   S t0 = S(0);
   double h = 0;
   const VecX<S>* y0 = nullptr;
   const VecX<S>* y1 = nullptr;
   const VecX<S>* f0 = nullptr;  // dy/dt at t0 (Hermite)
   const VecX<S>* f1 = nullptr;  // dy/dt at t1 (Hermite)
-  const std::vector<VecX<S>>* k = nullptr;  // Dopri stages
+  const std::vector<VecX<S>>* k = nullptr;  // Dopri stages; Rosenbrock: k[1..4] = U_1..U_4
+  const double (*weights)[3] = nullptr;      // Rosenbrock: RosenbrockTableau::d
+  int nx = 0;  // Rosenbrock: the positions y[0, nx) (the rest: velocities and the dissipated energies)
   // The step ended on an event: the state at its end (s.t, s.y) may have jumped there (an impact, a mode
   // change and its projection). Else that state is the interpolant's end, up to the step's projection.
   bool endsOnEvent = false;
@@ -40,10 +44,24 @@ template <class S> struct DenseOutput {
         const S r5 = S(h) * (d1 * K[0][i] + d3 * K[2][i] + d4 * K[3][i] + d5 * K[4][i] + d6 * K[5][i] + d7 * K[6][i]);
         out[i] = (*y0)[i] + th * (ydiff + (S(1) - th) * (bspl + th * (r4 + (S(1) - th) * r5)));
       }
-    } else {  // cubic Hermite
+    } else {
+      // Cubic Hermite: of every component, or with a Rosenbrock step of the positions alone. Their rates
+      // at the ends are the step's velocities; those of the velocities, the accelerations f(y_n+1), carry
+      // the stiff eigenvalue times whatever the step left off the slow manifold, so the velocities take
+      // the method's continuous extension (RosenbrockTableau::hasDense), which never evaluates f.
       const S h00 = S(2) * th * th * th - S(3) * th * th + S(1), h10 = th * th * th - S(2) * th * th + th,
               h01 = S(-2) * th * th * th + S(3) * th * th, h11 = th * th * th - th * th;
-      out = h00 * (*y0) + (h10 * S(h)) * (*f0) + h01 * (*y1) + (h11 * S(h)) * (*f1);
+      const Eigen::Index n = kind == Rosenbrock ? nx : out.size();
+      out.head(n) = h00 * y0->head(n) + (h10 * S(h)) * f0->head(n) + h01 * y1->head(n) + (h11 * S(h)) * f1->head(n);
+      if (kind == Rosenbrock) {
+        const auto& K = *k;
+        const double(*d)[3] = weights;
+        S w[4];
+        for (int j = 0; j < 4; ++j) w[j] = th * (S(d[j][0]) + th * (S(d[j][1]) + th * S(d[j][2])));
+        const Eigen::Index nv = out.size() - n;
+        out.tail(nv) = y0->tail(nv) + w[0] * K[1].tail(nv) + w[1] * K[2].tail(nv) + w[2] * K[3].tail(nv) +
+                       w[3] * K[4].tail(nv);
+      }
     }
   }
 };

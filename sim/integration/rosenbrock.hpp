@@ -140,7 +140,8 @@ template <class S> void combine(S* out, const S* base, const double* c, const S*
 //   y_n+1 = y_n + sum_i m_i U_i,   error estimate sum_i e_i U_i (against the embedded method),
 // with J_W the force elements' velocity stiffness (rank 1 per damper, see DampingTerm) taken at y_n:
 // the orifice damping and the regularised friction no longer cap the step. Any J_W keeps the order
-// (W-method). Dense output: cubic Hermite between f(y_n) and f(y_n+1).
+// (W-method). Dense output: the positions by the cubic Hermite between f(y_n) and f(y_n+1), the
+// velocities by the method's continuous extension where the tableau has one (ROS34PW2; ROS2: Hermite).
 template <class S> bool stepRosenbrock(StepContext<S>& c, const RosenbrockTableau& tab, double h, double& hNext, RunStatus& st) {
   const Settings& cfg = c.m.settings;
   auto& k = c.w.stages;  // k[0] = f(y_n), k[1..s] = U_1..U_s, k[6] = f(y_n+1)
@@ -235,14 +236,17 @@ template <class S> bool stepRosenbrock(StepContext<S>& c, const RosenbrockTablea
     }
     c.w.needDampingResponse = true;  // and after an event, refresh(c) takes it again
     if (!evaluate(c.m, c.s.y, c.s.active, c.s.lambda, c.w, c.w.ydot) || !allFinite(c.w.ydot)) return failNonFinite(c, st);
-    k[6] = c.w.ydot;
-    c.dense.kind = DenseOutput<S>::Hermite;
     c.dense.t0 = c.s.t - S(h);
     c.dense.h = h;
     c.dense.y0 = &c.w.y0;
     c.dense.y1 = &c.w.y1;
+    k[6] = c.w.ydot;
     c.dense.f0 = &k[0];
     c.dense.f1 = &k[6];
+    c.dense.kind = tab.hasDense ? DenseOutput<S>::Rosenbrock : DenseOutput<S>::Hermite;
+    c.dense.k = &k;
+    c.dense.weights = tab.d;
+    c.dense.nx = c.m.nx();
     if (slipReversedUnseen(c)) {  // (down to the retry floor)
       if (!settleUnseenSlips(c, st) || !refresh(c)) return failNonFinite(c, st);
       hNext = std::max(h, 1e-8);

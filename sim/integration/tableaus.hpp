@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <utility>
 
 namespace lg {
 
@@ -34,6 +35,23 @@ struct RosenbrockTableau {
   // the same with the whole Jacobian by finite differences), so it keeps the damping alone.
   bool stiffnessInW = false;
   double A[4][4] = {}, C[4][4] = {}, m[4] = {}, e[4] = {};
+  // The continuous extension (hasDense; else the step's dense output is a cubic Hermite): over the step,
+  //   y(t_n + theta h) = y_n + sum_j (d[j][0] theta + d[j][1] theta^2 + d[j][2] theta^3) U_j,
+  // d = B Gamma^-1 in the transformed form, where b_i(theta) = sum_p B[i][p] theta^(p+1) are the weights on
+  // the stages k_i that satisfy the order conditions of the Rosenbrock method up to order 3 at every theta
+  // (Hairer & Wanner IV.7, table 7.1, with the right-hand sides those of y(t_n + theta h)):
+  //   sum_i b_i(theta)                        = theta
+  //   sum_i b_i(theta) beta_i                 = theta^2/2 - gamma theta
+  //   sum_i b_i(theta) alpha_i^2              = theta^3/3
+  //   sum_i b_i(theta) sum_j beta_ij beta_j   = theta^3/6 - gamma theta^2 + gamma^2 theta
+  // (beta_ij = alpha_ij + gamma_ij, beta_i = sum_j<i beta_ij, alpha_i = sum_j<i alpha_ij): four conditions
+  // on four stages, for each power of theta a 4 x 4 system. At theta = 1 they are the method's own, so
+  // b_i(1) = b_i and the extension ends at y_n+1. Unlike the Hermite cubic it never evaluates f at the
+  // step's end, whose stiff components the W-matrix damps but f multiplies by the stiff eigenvalue: on a
+  // stiff step (h lambda ~ 30) a velocity slightly off its slow manifold made the Hermite cubic overshoot
+  // a strut's rate 2-fold inside the step.
+  bool hasDense = false;
+  double d[4][3] = {};
 
   static RosenbrockTableau make(int s, int embeddedOrder, double gamma, const double (&alpha)[4][4],
                                 const double (&Gam)[4][4], const double (&b)[4], const double (&bhat)[4]) {
@@ -61,6 +79,7 @@ struct RosenbrockTableau {
         t.C[i][j] = (i == j ? 1.0 / gamma : 0.0) - Gi[i][j];
         if (j >= i) t.A[i][j] = t.C[i][j] = 0;  // strictly lower (the diagonal of C cancels exactly)
       }
+    if (s == 4) t.continuousExtension(alpha, Gam, Gi);
     for (int j = 0; j < s; ++j) {
       double mm = 0, ee = 0;
       for (int c = 0; c < s; ++c) {
@@ -71,6 +90,56 @@ struct RosenbrockTableau {
       t.e[j] = ee;
     }
     return t;
+  }
+  // The weights d of the continuous extension of order 3 (see hasDense) of a 4-stage method, Gi = Gamma^-1.
+  void continuousExtension(const double (&alpha)[4][4], const double (&Gam)[4][4], const double (&Gi)[4][4]) {
+    double M[4][4], B[4][3];
+    for (int i = 0; i < 4; ++i) {
+      double a = 0, be = 0, bb = 0;
+      for (int j = 0; j < i; ++j) {
+        a += alpha[i][j];
+        be += alpha[i][j] + Gam[i][j];
+        double bj = 0;
+        for (int l = 0; l < j; ++l) bj += alpha[j][l] + Gam[j][l];
+        bb += (alpha[i][j] + Gam[i][j]) * bj;
+      }
+      M[0][i] = 1;
+      M[1][i] = be;
+      M[2][i] = a * a;
+      M[3][i] = bb;
+    }
+    const double g = gamma;
+    // The right-hand sides by power: theta, theta^2, theta^3 (columns) of the four conditions (rows).
+    const double rhs[4][3] = {{1, 0, 0}, {-g, 0.5, 0}, {0, 0, 1.0 / 3}, {g * g, -g, 1.0 / 6}};
+    for (int p = 0; p < 3; ++p) {  // Gaussian elimination with partial pivoting, one power at a time
+      double a[4][5];
+      for (int r = 0; r < 4; ++r) {
+        for (int c = 0; c < 4; ++c) a[r][c] = M[r][c];
+        a[r][4] = rhs[r][p];
+      }
+      for (int c = 0; c < 4; ++c) {
+        int piv = c;
+        for (int r = c + 1; r < 4; ++r)
+          if (std::abs(a[r][c]) > std::abs(a[piv][c])) piv = r;
+        for (int q = 0; q < 5; ++q) std::swap(a[c][q], a[piv][q]);
+        for (int r = c + 1; r < 4; ++r) {
+          const double f = a[r][c] / a[c][c];
+          for (int q = c; q < 5; ++q) a[r][q] -= f * a[c][q];
+        }
+      }
+      for (int r = 3; r >= 0; --r) {
+        double v = a[r][4];
+        for (int q = r + 1; q < 4; ++q) v -= a[r][q] * B[q][p];
+        B[r][p] = v / a[r][r];
+      }
+    }
+    for (int j = 0; j < 4; ++j)
+      for (int p = 0; p < 3; ++p) {
+        double v = 0;
+        for (int i = 0; i < 4; ++i) v += B[i][p] * Gi[i][j];
+        d[j][p] = v;
+      }
+    hasDense = true;
   }
   // ROS2 (Verwer, Spee, Blom & Hundsdorfer 1999): order 2, L-stable, gamma = 1 + 1/sqrt(2); the
   // embedded method is first order.

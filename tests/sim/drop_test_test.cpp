@@ -5,6 +5,7 @@
 // near what is achieved; the achieved
 // differences are printed (run sim_tests "[validation]" -s to see them).
 #include "scene_support.hpp"  // sim headers, then Catch (see there)
+#include <algorithm>
 #include <cstdio>
 
 #include "reference/reduced_seed_gear.hpp"
@@ -425,14 +426,18 @@ TEST_CASE("ros34pw2: third-order convergence to the reference, at a fraction of 
     errors.push_back(err);
     steps.push_back(static_cast<double>(m.steps));
   }
-  // Third order: the error falls with the number of steps N as N^-p, p near 3 (measured 2.59 between
-  // rtol 1e-3 and 1e-5: 143 -> 444 steps; per decade of rtol the error falls by 5.3, then 3.6).
+  // Third order: the error falls with the number of steps N as N^-p, p near 3 (measured 2.44 between
+  // rtol 1e-3 and 1e-5: 143 -> 439 steps; per decade of rtol the error falls by 4.9, then 3.2). The peak
+  // is read on the dense output, whose velocities are the method's third-order continuous extension
+  // (tableaus.hpp); on the same steps the cubic Hermite of the velocities, fourth order where a step is
+  // smooth but unbounded on stiff ones, gave 2.58 (errors 1.61e-4, 3.14e-5, 8.9e-6 against 1.62e-4,
+  // 3.31e-5, 1.05e-5).
   const double p = std::log(errors[0] / errors[2]) / std::log(steps[2] / steps[0]);
   std::printf("ros34pw2: peak-load errors %.2e %.2e %.2e in %.0f %.0f %.0f steps: order %.2f\n", errors[0], errors[1],
                  errors[2], steps[0], steps[1], steps[2], p);
   CHECK(errors[1] < errors[0] / 3);
   CHECK(errors[2] < errors[1] / 3);
-  CHECK(p > 2.5);
+  CHECK(p > 2.4);
   const lg::CaseMetrics fast = run(lg::IntegratorKind::Ros34pw2, 1e-3);
   const lg::CaseMetrics dopri = run(lg::IntegratorKind::DormandPrince, 1e-2);
   REQUIRE(dopri.ok);
@@ -461,6 +466,35 @@ TEST_CASE("ros34pw2: the limit drop to 0.1 % in under 50 steps, its steps after 
   INFO("peak " << m.peak_load_N << " vs " << ref.peak_load_N << ", steps " << m.steps << ", rhs " << m.rhs_evaluations);
   CHECK(m.steps <= 50);
   CHECK(err < 1e-3);
+}
+
+// The same fast setting on the shipped telescopic gear: its steps are stiff (20 ms against the orifice's
+// eigenvalue near -1.6e3 1/s) and start a little off the slow manifold, where the strut rate's cubic
+// Hermite, from the accelerations at the step's ends, swung to twice the rate at both ends inside one
+// step: P_a,max, searched on the dense output, came out 2.9 times the reference in the free drop (222 kN
+// against 77.7 kN) and 28 % high in the limit drop. The velocities now take ros34pw2's continuous
+// extension (tableaus.hpp). Measured: free drop 0.44 %, limit 2.6 % (its stroke 4.0 %: the integration
+// error of rtol 1e-2 itself), both beside the tight run's.
+TEST_CASE("ros34pw2: a stiff step's dense output holds the telescopic gear's strut-force peak at the fast setting",
+          "[drop_test][ros34pw2][dense]") {
+  const lg::Scene sc = lgtest::build(lgtest::shippedDoc("data/telescopic_gear.toml"));
+  lg::Scene fast = lg::withSolver(sc, lg::IntegratorKind::Ros34pw2, 1e-2);
+  fast.model.settings.maxStep = 0.05;
+  for (const char* name : {"free-drop", "limit"}) {
+    const auto it = std::find_if(sc.cases.begin(), sc.cases.end(), [&](const lg::DropCase& c) { return c.name == name; });
+    REQUIRE(it != sc.cases.end());
+    const lg::CaseMetrics ref = lg::runCase(lg::withSolver(sc, lg::IntegratorKind::DormandPrince, 1e-10), *it).metrics;
+    const lg::CaseMetrics m = lg::runCase(fast, *it).metrics;
+    REQUIRE(ref.ok);
+    REQUIRE(m.ok);
+    const double err = std::abs(m.strut_force_max_N - ref.strut_force_max_N) / ref.strut_force_max_N;
+    const double strokeErr = std::abs(m.stroke_max_m - ref.stroke_max_m) / ref.stroke_max_m;
+    std::printf("telescopic %s at ros34pw2 rtol 1e-2: P_a,max %.1f N vs %.1f N (%.2f %%), stroke %.2f %%, %ld steps\n", name,
+                m.strut_force_max_N, ref.strut_force_max_N, 100 * err, 100 * strokeErr, m.steps);
+    INFO(name << ": P_a,max " << m.strut_force_max_N << " vs " << ref.strut_force_max_N << ", stroke " << m.stroke_max_m
+              << " vs " << ref.stroke_max_m);
+    CHECK(err < (std::string(name) == "limit" ? 3e-2 : 6e-3));
+  }
 }
 
 // The hard cases again with the linearly implicit integrator (rtol 1e-5): stable, balanced and in
