@@ -16,10 +16,10 @@
 namespace lg {
 
 // The metrics an accuracy promise covers and their relative errors against a reference run: peak load,
-// its time, max stroke, max airframe travel h, max tyre deflection, efficiency. A metric whose reference
-// is zero (a scene without tyre or strut) counts as exact.
+// its time, max stroke, max airframe travel h, max tyre deflection, efficiency, the struts' peak force
+// P_a,max. A metric whose reference is zero (a scene without tyre or strut) counts as exact.
 struct MetricErrors {
-  double peakLoad = 0, tPeak = 0, stroke = 0, travel = 0, tyreDeflection = 0, efficiency = 0;
+  double peakLoad = 0, tPeak = 0, stroke = 0, travel = 0, tyreDeflection = 0, efficiency = 0, strutForce = 0;
   double max() const;
 };
 MetricErrors metricErrors(const CaseMetrics& m, const CaseMetrics& reference);
