@@ -163,6 +163,7 @@ TEST_CASE("simulate --work-precision writes the table for the scene's own refere
                    out + "'") == 0);
   const std::string csv = lgtest::readFile(out + "/work_precision.csv");
   CHECK(csv.rfind("case,integrator,tolerance,steps,rhs_evaluations,time_per_drop_s,error_peak_load,", 0) == 0);
+  CHECK(csv.find(",error_efficiency,error_strut_force,error_max,ok\n") != std::string::npos);
   for (const char* integ : {"dopri5", "ros34pw2", "ros2", "rk4", "euler"})
     CHECK(csv.find(std::string("limit,") + integ + ",") != std::string::npos);
   CHECK(std::count(csv.begin(), csv.end(), '\n') >= 20);
