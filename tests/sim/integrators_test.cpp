@@ -37,9 +37,8 @@ struct Oscillator {
   }
 };
 
-// |x(T) - exact| after a run at the fixed step h (error control off) with the given integrator.
-double fixedStepError(const Oscillator& o, lg::IntegratorKind kind, double h, double T, long* steps = nullptr,
-                      lg::VecX<double>* yEnd = nullptr) {
+// The oscillator as a scene: the mass on its guide along x, the spring-damper to the origin.
+lg::Scene oscillatorScene(const Oscillator& o) {
   char text[1024];
   std::snprintf(text, sizeof text, R"(
 [[body]]
@@ -67,7 +66,13 @@ c = %.17g
 L0 = 1.0
 )",
                 o.mass, o.k, o.c);
-  lg::Scene sc = lgtest::inlineScene(text);
+  return lgtest::inlineScene(text);
+}
+
+// |x(T) - exact| after a run at the fixed step h (error control off) with the given integrator.
+double fixedStepError(const Oscillator& o, lg::IntegratorKind kind, double h, double T, long* steps = nullptr,
+                      lg::VecX<double>* yEnd = nullptr) {
+  const lg::Scene sc = oscillatorScene(o);
   lg::Model<double> m = sc.model;
   m.settings.integrator = kind;
   m.settings.rtol = 1e6;  // every trial step accepted: a fixed step h
@@ -418,36 +423,7 @@ TEST_CASE("ros34pw2's dense output on a stiff step that starts off the slow mani
   Oscillator o;
   o.c = 1.0e4;
   const double h = 0.02;
-  const lg::Scene sc = [&] {
-    char text[1024];
-    std::snprintf(text, sizeof text, R"(
-[[body]]
-name = "mass"
-mass = %.17g
-inertia = [0.1, 0.2, 0.3]
-position = [1.0, 0.0, 0.0]
-
-[[joint]]
-type = "prismatic"
-body1 = "mass"
-body2 = "ground"
-point = [1.0, 0.0, 0.0]
-axis = [1.0, 0.0, 0.0]
-
-[[force]]
-name = "spring"
-type = "spring_damper"
-body1 = "mass"
-point1 = [1.0, 0.0, 0.0]
-body2 = "ground"
-point2 = [0.0, 0.0, 0.0]
-k = %.17g
-c = %.17g
-L0 = 1.0
-)",
-                  o.mass, o.k, o.c);
-    return lgtest::inlineScene(text);
-  }();
+  const lg::Scene sc = oscillatorScene(o);
   lg::Model<double> m = sc.model;
   m.settings.integrator = lg::IntegratorKind::Ros34pw2;
   m.settings.rtol = m.settings.atol = 1e6;  // one fixed step
