@@ -2,8 +2,8 @@
 // ROS34PW2 (in the transformed form the step uses).
 #pragma once
 
+#include <Eigen/Dense>
 #include <cmath>
-#include <utility>
 
 namespace lg {
 
@@ -93,50 +93,28 @@ struct RosenbrockTableau {
   }
   // The weights d of the continuous extension of order 3 (see hasDense) of a 4-stage method, Gi = Gamma^-1.
   void continuousExtension(const double (&alpha)[4][4], const double (&Gam)[4][4], const double (&Gi)[4][4]) {
-    double M[4][4], B[4][3];
+    double beta[4];  // beta_i = sum_j<i beta_ij
     for (int i = 0; i < 4; ++i) {
-      double a = 0, be = 0, bb = 0;
+      beta[i] = 0;
+      for (int j = 0; j < i; ++j) beta[i] += alpha[i][j] + Gam[i][j];
+    }
+    Eigen::Matrix4d M;  // M(condition, stage)
+    for (int i = 0; i < 4; ++i) {
+      double a = 0, bb = 0;
       for (int j = 0; j < i; ++j) {
         a += alpha[i][j];
-        be += alpha[i][j] + Gam[i][j];
-        double bj = 0;
-        for (int l = 0; l < j; ++l) bj += alpha[j][l] + Gam[j][l];
-        bb += (alpha[i][j] + Gam[i][j]) * bj;
+        bb += (alpha[i][j] + Gam[i][j]) * beta[j];
       }
-      M[0][i] = 1;
-      M[1][i] = be;
-      M[2][i] = a * a;
-      M[3][i] = bb;
+      M.col(i) << 1, beta[i], a * a, bb;
     }
     const double g = gamma;
-    // The right-hand sides by power: theta, theta^2, theta^3 (columns) of the four conditions (rows).
-    const double rhs[4][3] = {{1, 0, 0}, {-g, 0.5, 0}, {0, 0, 1.0 / 3}, {g * g, -g, 1.0 / 6}};
-    for (int p = 0; p < 3; ++p) {  // Gaussian elimination with partial pivoting, one power at a time
-      double a[4][5];
-      for (int r = 0; r < 4; ++r) {
-        for (int c = 0; c < 4; ++c) a[r][c] = M[r][c];
-        a[r][4] = rhs[r][p];
-      }
-      for (int c = 0; c < 4; ++c) {
-        int piv = c;
-        for (int r = c + 1; r < 4; ++r)
-          if (std::abs(a[r][c]) > std::abs(a[piv][c])) piv = r;
-        for (int q = 0; q < 5; ++q) std::swap(a[c][q], a[piv][q]);
-        for (int r = c + 1; r < 4; ++r) {
-          const double f = a[r][c] / a[c][c];
-          for (int q = c; q < 5; ++q) a[r][q] -= f * a[c][q];
-        }
-      }
-      for (int r = 3; r >= 0; --r) {
-        double v = a[r][4];
-        for (int q = r + 1; q < 4; ++q) v -= a[r][q] * B[q][p];
-        B[r][p] = v / a[r][r];
-      }
-    }
+    Eigen::Matrix<double, 4, 3> rhs;  // the conditions' right-hand sides by power: theta, theta^2, theta^3
+    rhs << 1, 0, 0, -g, 0.5, 0, 0, 0, 1.0 / 3, g * g, -g, 1.0 / 6;
+    const Eigen::Matrix<double, 4, 3> B = M.partialPivLu().solve(rhs);
     for (int j = 0; j < 4; ++j)
       for (int p = 0; p < 3; ++p) {
         double v = 0;
-        for (int i = 0; i < 4; ++i) v += B[i][p] * Gi[i][j];
+        for (int i = 0; i < 4; ++i) v += B(i, p) * Gi[i][j];
         d[j][p] = v;
       }
     hasDense = true;

@@ -115,23 +115,32 @@ TEST_CASE("Rosenbrock-W integrators: observed order 2 (ros2) and 3 (ros34pw2) on
 }
 
 namespace {
+// ROS34PW2 as Rang & Angermann give it (the off-diagonal gamma_ij; gamma_ii = g), independent of the
+// tableau under test.
+namespace ros34pw2Coefficients {
+const double g = 4.3586652150845900e-01;
+const double alpha[4][4] = {{0, 0, 0, 0},
+                            {8.7173304301691801e-01, 0, 0, 0},
+                            {8.4457060015369423e-01, -1.1299064236484185e-01, 0, 0},
+                            {0, 0, 1.0, 0}};
+const double gamma[4][4] = {{0, 0, 0, 0},
+                            {-8.7173304301691801e-01, 0, 0, 0},
+                            {-9.0338057013044082e-01, 5.4180672388095326e-02, 0, 0},
+                            {2.4212380706095346e-01, -1.2232505839045147e+00, 5.4526025533510214e-01, 0}};
+const double b[4] = {2.4212380706095346e-01, -1.2232505839045147e+00, 1.5452602553351020e+00, 4.3586652150845900e-01};
+}  // namespace ros34pw2Coefficients
+
 // One step of a Rosenbrock-W method in its original form (Hairer & Wanner IV.7.4 and IV.7.9) on y' = A y,
 // y = (x, v), with the matrix J in W: (I - gamma h J) k_i = h A (y0 + sum_j<i alpha_ij k_j) + h J sum_j<i
 // gamma_ij k_j, y1 = y0 + sum_i b_i k_i. The coefficients as Verwer et al. (ROS2) and Rang & Angermann
 // (ROS34PW2) give them.
 Eigen::Vector2d rosenbrockStep(const Eigen::Matrix2d& A, const Eigen::Matrix2d& J, const Eigen::Vector2d& y0, double h,
                                bool ros34pw2) {
-  const double g2 = 1.0 + 1.0 / std::sqrt(2.0), g4 = 4.3586652150845900e-01;
+  namespace c4 = ros34pw2Coefficients;
+  const double g2 = 1.0 + 1.0 / std::sqrt(2.0), g4 = c4::g;
   const double alpha2[2][2] = {{0, 0}, {1.0, 0}}, gamma2[2][2] = {{0, 0}, {-2.0 * g2, 0}}, b2[2] = {0.5, 0.5};
-  const double alpha4[4][4] = {{0, 0, 0, 0},
-                               {8.7173304301691801e-01, 0, 0, 0},
-                               {8.4457060015369423e-01, -1.1299064236484185e-01, 0, 0},
-                               {0, 0, 1.0, 0}};
-  const double gamma4[4][4] = {{0, 0, 0, 0},
-                               {-8.7173304301691801e-01, 0, 0, 0},
-                               {-9.0338057013044082e-01, 5.4180672388095326e-02, 0, 0},
-                               {2.4212380706095346e-01, -1.2232505839045147e+00, 5.4526025533510214e-01, 0}};
-  const double b4[4] = {2.4212380706095346e-01, -1.2232505839045147e+00, 1.5452602553351020e+00, 4.3586652150845900e-01};
+  const auto &alpha4 = c4::alpha, &gamma4 = c4::gamma;
+  const auto& b4 = c4::b;
   const int s = ros34pw2 ? 4 : 2;
   const double g = ros34pw2 ? g4 : g2;
   const Eigen::Matrix2d W = Eigen::Matrix2d::Identity() - g * h * J;
@@ -323,16 +332,13 @@ TEST_CASE("ROS34PW2's continuous extension: order conditions at every theta, its
   const lg::RosenbrockTableau& t = lg::RosenbrockTableau::ros34pw2();
   REQUIRE(t.hasDense);
   REQUIRE_FALSE(lg::RosenbrockTableau::ros2().hasDense);
-  const double g = 4.3586652150845900e-01;
-  const double alpha[4][4] = {{0, 0, 0, 0},
-                              {8.7173304301691801e-01, 0, 0, 0},
-                              {8.4457060015369423e-01, -1.1299064236484185e-01, 0, 0},
-                              {0, 0, 1.0, 0}};
-  double G[4][4] = {{g, 0, 0, 0},
-                    {-8.7173304301691801e-01, g, 0, 0},
-                    {-9.0338057013044082e-01, 5.4180672388095326e-02, g, 0},
-                    {2.4212380706095346e-01, -1.2232505839045147e+00, 5.4526025533510214e-01, g}};
-  const double b[4] = {2.4212380706095346e-01, -1.2232505839045147e+00, 1.5452602553351020e+00, 4.3586652150845900e-01};
+  namespace c4 = ros34pw2Coefficients;
+  const double g = c4::g;
+  const auto& alpha = c4::alpha;
+  const auto& b = c4::b;
+  double G[4][4];  // Gamma, g on its diagonal
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) G[i][j] = i == j ? g : c4::gamma[i][j];
   double a[4], beta[4], a2[4], bb[4], K[4];
   for (int i = 0; i < 4; ++i) {
     a[i] = beta[i] = 0;
