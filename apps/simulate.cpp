@@ -48,6 +48,10 @@ lg::Scene loadInputs(const Options& o, const CLI::App& app, std::vector<lg::Drop
   auto positive = [](const char* flag, double v) {
     if (!(v > 0) || !std::isfinite(v)) throw lg::InputError("command line", 0, flag, "value " + lg::fmt(v) + " must be > 0");
   };
+  if (!o.integrator.empty() || app.count("--rtol") || app.count("--atol")) {
+    cfg.accuracy = 0;  // the command line's integrator settings replace the scene's [solver] accuracy
+    cfg.stiffSwitchRtol = 0;
+  }
   if (!o.integrator.empty() && !lg::integratorFromName(o.integrator, cfg.integrator))
     throw lg::InputError("command line", 0, "--integrator", "value '" + o.integrator + "' must be one of " + lg::integratorNames());
   if (app.count("--rtol")) {
@@ -167,6 +171,10 @@ void printTable(const std::vector<lg::CaseResult>& results) {
                 m.peak_load_N, m.t_peak_s, m.load_factor, m.stroke_max_m, m.h_max_m, m.tyre_deflection_max_m,
                 m.efficiency, m.strut_efficiency, m.energy_balance_error, m.steps, 1e3 * m.wall_time_s, lim.c_str());
   }
+  for (const auto& r : results)
+    if (std::isfinite(r.metrics.stiff_from_s))
+      std::printf("%s: stiff from t = %.5f s (dopri5 at its stability bound): ros34pw2 from there\n", r.metrics.name.c_str(),
+                  r.metrics.stiff_from_s);
 }
 
 // The derivatives of the peak load and the stroke per case, for the terminal (all in gradient.csv).

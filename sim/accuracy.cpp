@@ -59,6 +59,7 @@ AccuracySetting settingForAccuracy(double accuracy) {
   } else {
     a.integrator = IntegratorKind::DormandPrince;
     a.rtol = accuracy / 2;
+    a.stiffSwitchRtol = accuracy / 6;  // ros34pw2's own rule, should the run turn out stiff
   }
   a.atol = a.rtol * 1e-2;
   a.maxStep = 0.05;
@@ -71,6 +72,7 @@ void applyAccuracy(Settings& s, double accuracy) {
   s.rtol = a.rtol;
   s.atol = a.atol;
   s.maxStep = a.maxStep;
+  s.stiffSwitchRtol = a.stiffSwitchRtol;
   s.accuracy = accuracy;
 }
 
@@ -93,6 +95,7 @@ Scene withSolver(const Scene& scene, IntegratorKind kind, double tolerance) {
   Scene sc = scene;
   Settings& s = sc.model.settings;
   s.integrator = kind;
+  s.stiffSwitchRtol = 0;  // (each integrator on its own)
   if (kind == IntegratorKind::DormandPrince || isRosenbrock(kind)) {
     s.rtol = tolerance;
     s.atol = tolerance * 1e-2;

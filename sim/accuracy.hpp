@@ -29,6 +29,7 @@ struct AccuracySetting {
   IntegratorKind integrator = IntegratorKind::DormandPrince;
   double rtol = 1e-6, atol = 1e-8;  // [-], [m, m/s, rad/s]
   double maxStep = 1e-2;            // [s]
+  double stiffSwitchRtol = 0;       // [-] dopri5 goes on with ros34pw2 at this rtol once it finds the run stiff
 };
 constexpr double kAccuracyMin = 1e-5;  // the range of accuracies the mapping covers (below 1e-5 the time
                                        // of a flat peak is not defined that well: two maxima within 1e-6 s)

@@ -248,7 +248,7 @@ template <class S> class DropObserver {
     checkBottom(s);
     if (recording() && denseRows()) recordDense(m, value(t0), value(t1), s, d);
     lazy.restore();
-    const Workspace<S>& endW = stepEnd(s, w, after_);  // after any jump at t1: the next step's start
+    const Workspace<S>& endW = stepEnd(s, w, d, after_);  // after any jump at t1: the next step's start
     // Without an event at t1 the next step starts where this one ends, with the same slope f(s.y) (up to
     // the step's projection): the rates at this step's end are also those at the next one's start.
     startRates_ = rateFromDense_ && !d.endsOnEvent;
@@ -416,8 +416,8 @@ template <class S> class DropObserver {
   // the projection: no second evaluation here); else s.y is evaluated here (dopri5's closing evaluation
   // is its last stage, at y1 before the quaternions' renormalisation; the fixed steps renormalise after
   // theirs: a round-off apart).
-  const Workspace<S>& stepEnd(const State<S>& s, const Workspace<S>& w, Channels& c) {
-    if (isRosenbrock(m_.settings.integrator)) {
+  const Workspace<S>& stepEnd(const State<S>& s, const Workspace<S>& w, const DenseOutput<S>& d, Channels& c) {
+    if (d.closesAtState) {
       channels(s.t, w, c);
       return w;
     }

@@ -75,6 +75,9 @@ struct CaseMetrics {
   std::vector<TyreMetrics> tyres;
   long steps = 0;
   long rhs_evaluations = 0;
+  bool stiff_switch = false;            // the run's settings let dopri5 hand over to ros34pw2 (an accuracy setting)
+  double stiff_from_s = std::numeric_limits<double>::quiet_NaN();  // [s] where dopri5 found the run stiff and
+                                       // went on with ros34pw2 (Settings::stiffSwitchRtol); NaN: it never did
   double wall_time_s = 0;
 
   // Within every declared limit: no bottoming, every stroke margin >= 0, every tyre within delta_max.

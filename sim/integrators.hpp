@@ -37,7 +37,7 @@ struct NoObserver {
 
 template <class S> class Integrator {
  public:
-  Integrator(const Model<S>& m, State<S>& s, Workspace<S>& w) : c_{m, s, w, {}, 1e-4} {}
+  Integrator(const Model<S>& m, State<S>& s, Workspace<S>& w) : c_{m, s, w, {}, 1e-4, m.settings.rtol, m.settings.atol, {}} {}
 
   // Integrates from s.t to tEnd. The observer's onStart runs with the workspace evaluated at the start;
   // onStep after every accepted step with the state at the step's end (kinematics, rows, multipliers and
@@ -46,7 +46,8 @@ template <class S> class Integrator {
   template <class Observer> RunStatus run(double tEnd, Observer& obs) {
     RunStatus st;
     const Settings& cfg = c_.m.settings;
-    c_.w.needDampingResponse = isRosenbrock(cfg.integrator);
+    IntegratorKind kind = cfg.integrator;  // (dopri5 may hand over to ros34pw2: Settings::stiffSwitchRtol)
+    c_.w.needDampingResponse = isRosenbrock(kind);
     c_.w.slip = c_.s.slip;
     projectMobility(c_.m, c_.s.y);  // a guided, immobile or planar body's velocity into its subspace
     impliedPlanarRows(c_.m, c_.s, c_.w);  // a planar model's rows that its plane motions satisfy by themselves
@@ -62,14 +63,15 @@ template <class S> class Integrator {
       if (st.steps >= cfg.maxSteps) return fail(c_, st, "step limit reached (" + std::to_string(cfg.maxSteps) + " steps)");
       const double remaining = tEnd - value(c_.s.t);
       bool ok;
-      if (cfg.integrator == IntegratorKind::DormandPrince) ok = stepDopri(c_, std::min(h, remaining), h, st);
-      else if (cfg.integrator == IntegratorKind::Ros2) ok = stepRosenbrock(c_, RosenbrockTableau::ros2(), std::min(h, remaining), h, st);
-      else if (cfg.integrator == IntegratorKind::Ros34pw2)
+      if (kind == IntegratorKind::DormandPrince) ok = stepDopri(c_, std::min(h, remaining), h, st);
+      else if (kind == IntegratorKind::Ros2) ok = stepRosenbrock(c_, RosenbrockTableau::ros2(), std::min(h, remaining), h, st);
+      else if (kind == IntegratorKind::Ros34pw2)
         ok = stepRosenbrock(c_, RosenbrockTableau::ros34pw2(), std::min(h, remaining), h, st);
       else ok = stepFixed(c_, std::min(cfg.step, remaining), st);
       if (!ok) return st;
       ++st.steps;
       obs.onStep(c_.m, c_.s, c_.w, c_.dense);
+      if (kind == IntegratorKind::DormandPrince && c_.stiffness.stiff && !switchToStiff(kind, st)) return st;
     }
     // An event whose time depends on the parameters (a stop reached, a strut breaking away) moves every
     // later step by that much: the run ends at tEnd in value but at tEnd + dt_event/dp in derivative.
@@ -83,6 +85,19 @@ template <class S> class Integrator {
   }
 
  private:
+  // The run found itself stiff (StiffnessTest): it goes on from the state it reached with ros34pw2 at
+  // Settings::stiffSwitchRtol (atol a hundredth of it), the step size as it was (the Rosenbrock steps grow
+  // it). Its first step needs the damping terms and their responses at that state: one evaluation.
+  bool switchToStiff(IntegratorKind& kind, RunStatus& st) {
+    kind = IntegratorKind::Ros34pw2;
+    c_.rtol = c_.m.settings.stiffSwitchRtol;
+    c_.atol = c_.rtol * 1e-2;
+    st.stiffFrom = value(c_.s.t);
+    c_.w.needDampingResponse = true;
+    if (!refresh(c_)) return failNonFinite(c_, st);
+    return true;
+  }
+
   StepContext<S> c_;
 };
 

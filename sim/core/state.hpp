@@ -106,6 +106,7 @@ template <class S> struct Workspace {
   VecX<S> ydot;                      // derivative of y
   std::vector<VecX<S>> stages;       // integrator stages k1..k7
   VecX<S> y0, y1, yerr, ytmp;        // integrator scratch
+  VecX<S> yStiff;                    // dopri5: its 6th stage's argument y*, for the stiffness test
   Eigen::VectorXd errTerm;           // the scaled error of each component of a trial step
   VecX<S> g0, g1, g2, gtmp;          // event functions at step start / end / trials
   VecX<S> gRate0, gRate1;            // a free stop's dC/dt = J V at step start / end (interior dips)
@@ -169,7 +170,7 @@ template <class S> struct Workspace {
     dissipation = VecX<S>::Zero(m.nDissipation);
     forceEvents = VecX<S>::Zero(m.nForceEvents);
     outputs = VecX<S>::Zero(m.nOutputs);
-    ydot = y0 = y1 = yerr = ytmp = VecX<S>::Zero(m.ny());
+    ydot = y0 = y1 = yerr = ytmp = yStiff = VecX<S>::Zero(m.ny());
     errTerm = Eigen::VectorXd::Zero(m.ny());
     stages.assign(7, VecX<S>::Zero(m.ny()));
     g0 = g1 = g2 = gtmp = VecX<S>::Zero(R + m.nForceEvents);

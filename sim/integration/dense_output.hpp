@@ -29,6 +29,10 @@ template <class S> struct DenseOutput {
   // The step ended on an event: the state at its end (s.t, s.y) may have jumped there (an impact, a mode
   // change and its projection). Else that state is the interpolant's end, up to the step's projection.
   bool endsOnEvent = false;
+  // The step's closing evaluation (kinematics, rows, multipliers and outputs in the workspace) is at the
+  // state it ends on itself (the Rosenbrock steps, which evaluate after the projection); else a round-off
+  // away (dopri5's last stage is before the quaternions' renormalisation, the fixed steps' likewise).
+  bool closesAtState = false;
   void at(const S& t, VecX<S>& out) const {
     const S th = (t - t0) / S(h);
     if (kind == Dopri) {

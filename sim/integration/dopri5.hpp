@@ -17,12 +17,14 @@ template <class S> bool stepDopri(StepContext<S>& c, double h, double& hNext, Ru
   auto& k = c.w.stages;
   const int nErr = c.m.nErr();  // the dissipated-energy states are not error-controlled (but those asked for)
   k[0] = c.w.ydot;
+  const bool testStiffness = cfg.stiffSwitchRtol > 0;
   for (int attempt = 0; attempt < 60; ++attempt) {
     c.w.y0 = c.s.y;
     bool ok = true;
     for (int i = 1; i < 7; ++i) {
       {
         ScopedStage timer(c.w.timer, kIntegrate, cfg.profile);
+        if (i == 6 && testStiffness) c.w.yStiff = c.w.ytmp;  // y*, the 6th stage's argument (c6 = 1)
         c.w.ytmp = c.w.y0;
         for (int j = 0; j < i; ++j)
           if (dopri::a[i][j] != 0) c.w.ytmp += S(h * dopri::a[i][j]) * k[j];
@@ -38,7 +40,7 @@ template <class S> bool stepDopri(StepContext<S>& c, double h, double& hNext, Ru
         S e(0);
         for (int j = 0; j < 7; ++j)
           if (dopri::e[j] != 0) e += S(dopri::e[j]) * k[j][i];
-        const double sc = cfg.atol + cfg.rtol * std::max(std::abs(value(c.w.y0[i])), std::abs(value(c.w.y1[i])));
+        const double sc = c.atol + c.rtol * std::max(std::abs(value(c.w.y0[i])), std::abs(value(c.w.y1[i])));
         const double r = h * value(e) / sc;
         err += r * r;
       }
@@ -56,7 +58,9 @@ template <class S> bool stepDopri(StepContext<S>& c, double h, double& hNext, Ru
       c.errOld = std::max(err, 1e-4);
     }
     // Accept: state at the step's end, event functions there.
+    if (testStiffness) c.stiffness.observe(h, c.w.y1, c.w.yStiff, k[6], k[5], nErr);
     c.dense.kind = DenseOutput<S>::Dopri;
+    c.dense.closesAtState = false;
     c.dense.t0 = c.s.t;
     c.dense.h = h;
     c.dense.y0 = &c.w.y0;

@@ -81,6 +81,7 @@ template <class S> bool stepFixed(StepContext<S>& c, double h, RunStatus& st) {
     return false;
   }
   c.dense.kind = DenseOutput<S>::Hermite;
+  c.dense.closesAtState = false;
   c.dense.t0 = c.s.t - S(h);
   c.dense.h = h;
   c.dense.y0 = &c.w.y0;

@@ -194,7 +194,7 @@ template <class S> bool stepRosenbrock(StepContext<S>& c, const RosenbrockTablea
       // The scaled error of each component in one pass (vectorisable), then their squares summed in order.
       double* q = c.w.errTerm.data();
       const auto scaled = [&](int i, double e) {
-        return e / (cfg.atol + cfg.rtol * std::max(std::abs(value(c.w.y0[i])), std::abs(value(c.w.y1[i]))));
+        return e / (c.atol + c.rtol * std::max(std::abs(value(c.w.y0[i])), std::abs(value(c.w.y1[i]))));
       };
       if (tab.stages == 4) {
         const S *k1 = vecs[0], *k2 = vecs[1], *k3 = vecs[2], *k4 = vecs[3];
@@ -244,6 +244,7 @@ template <class S> bool stepRosenbrock(StepContext<S>& c, const RosenbrockTablea
     c.dense.f0 = &k[0];
     c.dense.f1 = &k[6];
     c.dense.kind = tab.hasDense ? DenseOutput<S>::Rosenbrock : DenseOutput<S>::Hermite;
+    c.dense.closesAtState = true;
     c.dense.k = &k;
     c.dense.weights = tab.d;
     c.dense.nx = c.m.nx();

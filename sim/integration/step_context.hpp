@@ -10,6 +10,7 @@
 #include "sim/engine.hpp"
 #include "sim/integration/dense_output.hpp"
 #include "sim/integration/event_functions.hpp"
+#include "sim/integration/stiffness.hpp"
 
 namespace lg {
 
@@ -19,6 +20,7 @@ struct RunStatus {
   long steps = 0, rejected = 0, events = 0, projections = 0;
   double maxPositionViolation = 0;  // [m] largest |C| seen at the end of a step (before projection)
   double maxVelocityViolation = 0;  // [m/s]
+  double stiffFrom = -1;            // [s] where a dopri5 run found itself stiff and went on with ros34pw2; -1: never
 };
 
 // What every step function works on: the model, the state it advances, the workspace, the dense output
@@ -29,6 +31,8 @@ template <class S> struct StepContext {
   Workspace<S>& w;
   DenseOutput<S> dense;
   double errOld = 1e-4;  // error of the last accepted step (PI control)
+  double rtol = 0, atol = 0;  // the adaptive steps' tolerances: the settings', or after a switch to ros34pw2 its own
+  StiffnessTest stiffness;    // dopri5's test of h |lambda| against its stability bound
 };
 
 template <class S> RunStatus& fail(StepContext<S>& c, RunStatus& st, const std::string& why) {

@@ -95,6 +95,7 @@ std::string metricsJson(const CaseMetrics& m, const std::string& in) {
   o << "],\n";
   o << in << "  \"steps\": " << m.steps << ",\n";
   o << in << "  \"rhs_evaluations\": " << m.rhs_evaluations << ",\n";
+  if (m.stiff_switch) num("stiff_from_s", m.stiff_from_s);  // (null: dopri5 to the end)
   num("wall_time_s", m.wall_time_s, true);
   o << in << "}";
   return o.str();
@@ -174,7 +175,12 @@ std::string summaryCsv(const std::vector<CaseResult>& results) {
   bool drag = false;
   for (const CaseResult& r : results) drag = drag || r.metrics.longitudinal;
   if (drag) out += "forward_speed[m/s],drag_peak[N],t_drag_peak[s],";
-  out += "bottomed,within_limits,violations,steps,rhs_evaluations,wall_time[s]\n";
+  out += "bottomed,within_limits,violations,";
+  // Where dopri5 may hand over to ros34pw2 (an accuracy setting): the time it did, empty if never.
+  bool stiff = false;
+  for (const CaseResult& r : results) stiff = stiff || r.metrics.stiff_switch;
+  if (stiff) out += "stiff_from[s],";
+  out += "steps,rhs_evaluations,wall_time[s]\n";
   auto num = [](double v) {
     if (!std::isfinite(v)) return std::string();
     char b[40];
@@ -194,8 +200,9 @@ std::string summaryCsv(const std::vector<CaseResult>& results) {
       out += "," + num(v);
     if (drag)
       for (double v : {m.forward_speed_mps, m.drag_peak_N, m.t_drag_peak_s}) out += "," + num(v);
-    out += std::string(",") + (m.bottomed ? "1" : "0") + "," + (m.withinLimits() ? "1" : "0") + ",\"" + viol + "\"," +
-           std::to_string(m.steps) + "," + std::to_string(m.rhs_evaluations) + "," + num(m.wall_time_s) + "\n";
+    out += std::string(",") + (m.bottomed ? "1" : "0") + "," + (m.withinLimits() ? "1" : "0") + ",\"" + viol + "\",";
+    if (stiff) out += num(m.stiff_from_s) + ",";
+    out += std::to_string(m.steps) + "," + std::to_string(m.rhs_evaluations) + "," + num(m.wall_time_s) + "\n";
   }
   return out;
 }

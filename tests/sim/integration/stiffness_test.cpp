@@ -1,0 +1,86 @@
+// Stiffness detection and the hand-over to ros34pw2 (sim/integration/stiffness.hpp, Settings::stiffSwitchRtol).
+#include "tests/sim/engine_support.hpp"  // sim headers, then Catch (see there)
+#include "tests/sim/scene_support.hpp"
+
+#include <cmath>
+
+#include "sim/accuracy.hpp"
+
+TEST_CASE("stiffness test: h rho of a linear step is h |lambda|, 15 steps at the bound mark it stiff and 6 below reset the count",
+          "[stiffness]") {
+  // On y' = lambda y, f(y1) - f(y*) = lambda (y1 - y*) exactly, whatever y1 and y*.
+  const double lambda = -4.0e4, h = 1e-4;
+  lg::VecX<double> y1(2), ys(2), f1(2), f6(2);
+  y1 << 0.3, -1.2;
+  ys << 0.1, 0.7;
+  f1 = lambda * y1;
+  f6 = lambda * ys;
+  lg::StiffnessTest t;
+  CHECK(std::abs(t.observe(h, y1, ys, f1, f6, 2) - h * std::abs(lambda)) < 1e-12);
+  for (int k = 0; k < 13; ++k) t.observe(h, y1, ys, f1, f6, 2);
+  CHECK_FALSE(t.stiff);  // 14 at the bound
+  for (int k = 0; k < 5; ++k) t.observe(1e-6, y1, ys, f1, f6, 2);  // h rho = 0.04: 5 below do not reset
+  t.observe(h, y1, ys, f1, f6, 2);
+  CHECK(t.stiff);  // the 15th
+  lg::StiffnessTest u;
+  for (int k = 0; k < 14; ++k) u.observe(h, y1, ys, f1, f6, 2);
+  for (int k = 0; k < 6; ++k) u.observe(1e-6, y1, ys, f1, f6, 2);  // 6 below: the count starts again
+  for (int k = 0; k < 14; ++k) u.observe(h, y1, ys, f1, f6, 2);
+  CHECK_FALSE(u.stiff);
+}
+
+TEST_CASE("accuracy 1e-3 on a stiff drop: dopri5 hands over to ros34pw2 and keeps the promise at a fifteenth of the work",
+          "[stiffness][accuracy]") {
+  // The main gear dropped at 2 m/s without forward speed: its tyre's longitudinal friction is regularised
+  // over eps = kappa_0 * 1 m/s, a damper of mu_x P_t / eps (some 4e5 N s/m) on the wheel's contact point,
+  // lambda about -4e4 1/s. dopri5 alone is held at its stability bound (steps of about 1e-4 s).
+  lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/main_gear.toml"));
+  lg::DropCase c = sc.cases.at(0);
+  c.name = "no-forward-speed";
+  c.forwardSpeed = 0;
+  c.sinkSpeed = 2.0;
+  const auto ref = lg::runCase(lg::withSolver(sc, lg::IntegratorKind::DormandPrince, 1e-10), c).metrics;
+  lg::Scene acc = sc;
+  lg::applyAccuracy(acc.model.settings, 1e-3);
+  lg::Scene alone = acc;
+  alone.model.settings.stiffSwitchRtol = 0;  // dopri5 to the end
+  const auto a = lg::runCase(acc, c).metrics, b = lg::runCase(alone, c).metrics;
+  REQUIRE(ref.ok);
+  REQUIRE(a.ok);
+  REQUIRE(b.ok);
+  const double ea = lg::metricErrors(a, ref).max(), eb = lg::metricErrors(b, ref).max();
+  lgtest::report("stiff drop at accuracy 1e-3: switched at %.5f s, %ld evaluations (error %.2e); dopri5 alone %ld (%.2e)",
+                 a.stiff_from_s, a.rhs_evaluations, ea, b.rhs_evaluations, eb);
+  CHECK(a.stiff_switch);
+  CHECK(std::isfinite(a.stiff_from_s));
+  CHECK(a.stiff_from_s > 0.005);  // after touchdown, when the tyre's friction comes in
+  CHECK(a.stiff_from_s < 0.02);
+  CHECK(std::isnan(b.stiff_from_s));
+  CHECK(a.rhs_evaluations * 10 < b.rhs_evaluations);
+  CHECK(ea <= 1e-3);
+  CHECK(eb <= 1e-3);
+}
+
+TEST_CASE("a drop that is not stiff is not switched: the accuracy setting's run equals dopri5's bit for bit",
+          "[stiffness][accuracy]") {
+  // The seed gear's free drop never reaches the bound. (Its drops with lift do, once the gear has come to
+  // rest on its tyre after the rebound, at 0.40 .. 0.44 s: the settling strut's orifice damping; there the
+  // hand-over saves 14 % of the evaluations, the compression's metrics already found by dopri5.)
+  lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/seed_gear.toml"));
+  lg::applyAccuracy(sc.model.settings, 1e-3);
+  lg::Scene alone = sc;
+  alone.model.settings.stiffSwitchRtol = 0;
+  for (const char* name : {"free-drop"}) {
+    lg::DropCase c;
+    for (const auto& k : sc.cases)
+      if (k.name == name) c = k;
+    const auto a = lg::runCase(sc, c).metrics, b = lg::runCase(alone, c).metrics;
+    INFO(name);
+    CHECK(std::isnan(a.stiff_from_s));
+    CHECK(a.steps == b.steps);
+    CHECK(a.rhs_evaluations == b.rhs_evaluations);
+    CHECK(a.peak_load_N == b.peak_load_N);
+    CHECK(a.t_peak_s == b.t_peak_s);
+    CHECK(a.stroke_max_m == b.stroke_max_m);
+  }
+}
