@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "sim/engine.hpp"
@@ -20,7 +21,8 @@ struct RunStatus {
   long steps = 0, rejected = 0, events = 0, projections = 0;
   double maxPositionViolation = 0;  // [m] largest |C| seen at the end of a step (before projection)
   double maxVelocityViolation = 0;  // [m/s]
-  double stiffFrom = -1;            // [s] where a dopri5 run found itself stiff and went on with ros34pw2; -1: never
+  double stiffFrom = std::numeric_limits<double>::quiet_NaN();  // [s] where a dopri5 run found itself stiff and
+                                                                // went on with ros34pw2; NaN: never
 };
 
 // What every step function works on: the model, the state it advances, the workspace, the dense output
