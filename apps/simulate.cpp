@@ -171,10 +171,17 @@ void printTable(const std::vector<lg::CaseResult>& results) {
                 m.peak_load_N, m.t_peak_s, m.load_factor, m.stroke_max_m, m.h_max_m, m.tyre_deflection_max_m,
                 m.efficiency, m.strut_efficiency, m.energy_balance_error, m.steps, 1e3 * m.wall_time_s, lim.c_str());
   }
-  for (const auto& r : results)
-    if (std::isfinite(r.metrics.stiff_from_s))
-      std::printf("%s: stiff from t = %.5f s (dopri5 at its stability bound): ros34pw2 from there\n", r.metrics.name.c_str(),
-                  r.metrics.stiff_from_s);
+  for (const auto& r : results) {
+    const auto& m = r.metrics;
+    const std::string back = m.stiff_handbacks == 0 ? ""
+                             : " (" + std::to_string(m.stiff_handbacks) + " earlier trial(s) cost more and went back to dopri5)";
+    if (std::isfinite(m.stiff_from_s))
+      std::printf("%s: stiff from t = %.5f s (dopri5 at its stability bound): ros34pw2 from there%s\n", m.name.c_str(),
+                  m.stiff_from_s, back.c_str());
+    else if (m.stiff_handbacks > 0)
+      std::printf("%s: dopri5 at its stability bound, but ros34pw2 cost more on %d trial(s): dopri5 throughout\n",
+                  m.name.c_str(), m.stiff_handbacks);
+  }
 }
 
 // The derivatives of the peak load and the stroke per case, for the terminal (all in gradient.csv).

@@ -158,6 +158,7 @@ CaseResult runCase(const Scene& scene, const DropCase& c, const CaseOptions& opt
   res.metrics.rhs_evaluations = w.rhsEvaluations;
   res.metrics.stiff_switch = m.settings.stiffSwitchRtol > 0;
   res.metrics.stiff_from_s = st.stiffFrom;
+  res.metrics.stiff_handbacks = st.handBacks;
   res.metrics.constraint_violation_max = std::max(res.metrics.constraint_violation_max, st.maxPositionViolation);
   auto& M = res.metrics;
   for (double v : {M.peak_load_N, M.stroke_max_m, M.h_max_m, M.tyre_deflection_max_m, M.efficiency, M.strut_efficiency,

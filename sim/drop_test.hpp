@@ -77,7 +77,8 @@ struct CaseMetrics {
   long rhs_evaluations = 0;
   bool stiff_switch = false;            // the run's settings let dopri5 hand over to ros34pw2 (an accuracy setting)
   double stiff_from_s = std::numeric_limits<double>::quiet_NaN();  // [s] where dopri5 found the run stiff and
-                                       // went on with ros34pw2 (Settings::stiffSwitchRtol); NaN: it never did
+                                       // went on with ros34pw2 to the end (Settings::stiffSwitchRtol); NaN: it never did
+  int stiff_handbacks = 0;             // hand-overs to ros34pw2 that cost more than dopri5 and were handed back
   double wall_time_s = 0;
 
   // Within every declared limit: no bottoming, every stroke margin >= 0, every tyre within delta_max.

@@ -19,6 +19,7 @@
 // (what the methods share), events (handling them inside a step), dopri5, rosenbrock, fixed_step.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <type_traits>
 
@@ -37,7 +38,7 @@ struct NoObserver {
 
 template <class S> class Integrator {
  public:
-  Integrator(const Model<S>& m, State<S>& s, Workspace<S>& w) : c_{m, s, w, {}, 1e-4, m.settings.rtol, m.settings.atol, {}} {}
+  Integrator(const Model<S>& m, State<S>& s, Workspace<S>& w) : c_{m, s, w, {}, 1e-4, m.settings.rtol, m.settings.atol, {}, {}} {}
 
   // Integrates from s.t to tEnd. The observer's onStart runs with the workspace evaluated at the start;
   // onStep after every accepted step with the state at the step's end (kinematics, rows, multipliers and
@@ -71,7 +72,7 @@ template <class S> class Integrator {
       if (!ok) return st;
       ++st.steps;
       obs.onStep(c_.m, c_.s, c_.w, c_.dense);
-      if (kind == IntegratorKind::DormandPrince && c_.stiffness.stiff && !switchToStiff(kind, st)) return st;
+      if (cfg.stiffSwitchRtol > 0 && !handOver(kind, h, st)) return st;
     }
     // An event whose time depends on the parameters (a stop reached, a strut breaking away) moves every
     // later step by that much: the run ends at tEnd in value but at tEnd + dt_event/dp in derivative.
@@ -85,15 +86,34 @@ template <class S> class Integrator {
   }
 
  private:
-  // The run found itself stiff (StiffnessTest): it goes on from the state it reached with ros34pw2 at
-  // Settings::stiffSwitchRtol (atol a hundredth of it), the step size as it was (the Rosenbrock steps grow
-  // it). Its first step needs the damping terms and their responses at that state: one evaluation.
-  bool switchToStiff(IntegratorKind& kind, RunStatus& st) {
-    kind = IntegratorKind::Ros34pw2;
-    c_.rtol = c_.m.settings.stiffSwitchRtol;
-    c_.atol = c_.rtol * 1e-2;
-    st.stiffFrom = value(c_.s.t);
-    c_.w.needDampingResponse = true;
+  // Settings::stiffSwitchRtol: dopri5 watches its stiffness (StiffnessTest) and, where acting on it looks
+  // worth it (StiffHandOver), hands the run over to ros34pw2 at that rtol (atol a hundredth of it), the
+  // step size as it was (the Rosenbrock steps grow it); its first step needs the damping terms and their
+  // responses at that state: one evaluation. A trial that costs more is handed back to dopri5 at its own
+  // tolerances and the step it had. Returns false if the evaluation at the switch fails.
+  bool handOver(IntegratorKind& kind, double& h, RunStatus& st) {
+    const double t = value(c_.s.t);
+    const long evals = c_.w.rhsEvaluations;
+    if (kind == IntegratorKind::DormandPrince) {
+      c_.handOver.dopriStep(t, evals);
+      if (!c_.stiffness.stiff) return true;
+      c_.stiffness = {};  // (the count starts again, whatever is decided)
+      if (!c_.handOver.tryStiff(t, evals, h)) return true;
+      kind = IntegratorKind::Ros34pw2;
+      c_.rtol = c_.m.settings.stiffSwitchRtol;
+      c_.atol = c_.rtol * 1e-2;
+      st.stiffFrom = t;
+      c_.w.needDampingResponse = true;
+    } else {
+      if (!c_.handOver.rosStep(t, evals)) return true;
+      kind = IntegratorKind::DormandPrince;
+      c_.rtol = c_.m.settings.rtol;
+      c_.atol = c_.m.settings.atol;
+      st.stiffFrom = std::numeric_limits<double>::quiet_NaN();
+      ++st.handBacks;
+      c_.w.needDampingResponse = false;
+      h = c_.handOver.hDopri;
+    }
     if (!refresh(c_)) return failNonFinite(c_, st);
     return true;
   }

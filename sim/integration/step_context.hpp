@@ -22,7 +22,8 @@ struct RunStatus {
   double maxPositionViolation = 0;  // [m] largest |C| seen at the end of a step (before projection)
   double maxVelocityViolation = 0;  // [m/s]
   double stiffFrom = std::numeric_limits<double>::quiet_NaN();  // [s] where a dopri5 run found itself stiff and
-                                                                // went on with ros34pw2; NaN: never
+                                                                // went on with ros34pw2 to the end; NaN: never
+  int handBacks = 0;                // hand-overs to ros34pw2 that cost more than dopri5 and were handed back
 };
 
 // What every step function works on: the model, the state it advances, the workspace, the dense output
@@ -35,6 +36,7 @@ template <class S> struct StepContext {
   double errOld = 1e-4;  // error of the last accepted step (PI control)
   double rtol = 0, atol = 0;  // the adaptive steps' tolerances: the settings', or after a switch to ros34pw2 its own
   StiffnessTest stiffness;    // dopri5's test of h |lambda| against its stability bound
+  StiffHandOver handOver;     // and the cost of acting on it
 };
 
 template <class S> RunStatus& fail(StepContext<S>& c, RunStatus& st, const std::string& why) {

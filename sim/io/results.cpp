@@ -95,7 +95,10 @@ std::string metricsJson(const CaseMetrics& m, const std::string& in) {
   o << "],\n";
   o << in << "  \"steps\": " << m.steps << ",\n";
   o << in << "  \"rhs_evaluations\": " << m.rhs_evaluations << ",\n";
-  if (m.stiff_switch) num("stiff_from_s", m.stiff_from_s);  // (null: dopri5 to the end)
+  if (m.stiff_switch) {
+    num("stiff_from_s", m.stiff_from_s);  // (null: dopri5 to the end)
+    o << in << "  \"stiff_handbacks\": " << m.stiff_handbacks << ",\n";
+  }
   num("wall_time_s", m.wall_time_s, true);
   o << in << "}";
   return o.str();
@@ -179,7 +182,7 @@ std::string summaryCsv(const std::vector<CaseResult>& results) {
   // Where dopri5 may hand over to ros34pw2 (an accuracy setting): the time it did, empty if never.
   bool stiff = false;
   for (const CaseResult& r : results) stiff = stiff || r.metrics.stiff_switch;
-  if (stiff) out += "stiff_from[s],";
+  if (stiff) out += "stiff_from[s],stiff_handbacks[-],";
   out += "steps,rhs_evaluations,wall_time[s]\n";
   auto num = [](double v) {
     if (!std::isfinite(v)) return std::string();
@@ -201,7 +204,7 @@ std::string summaryCsv(const std::vector<CaseResult>& results) {
     if (drag)
       for (double v : {m.forward_speed_mps, m.drag_peak_N, m.t_drag_peak_s}) out += "," + num(v);
     out += std::string(",") + (m.bottomed ? "1" : "0") + "," + (m.withinLimits() ? "1" : "0") + ",\"" + viol + "\",";
-    if (stiff) out += num(m.stiff_from_s) + ",";
+    if (stiff) out += num(m.stiff_from_s) + "," + std::to_string(m.stiff_handbacks) + ",";
     out += std::to_string(m.steps) + "," + std::to_string(m.rhs_evaluations) + "," + num(m.wall_time_s) + "\n";
   }
   return out;

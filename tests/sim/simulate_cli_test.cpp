@@ -344,3 +344,32 @@ TEST_CASE("benchmarks: --help, --version and usage errors follow the shared conv
   CHECK(out.find("no case named 'no-such-case' (cases: light, medium, limit, reserve, free-drop)") != std::string::npos);
   CHECK(std::count(out.begin(), out.end(), '\n') == 1);
 }
+
+TEST_CASE("simulate --accuracy: the stiffness hand-over and its handed-back trials reach the terminal, "
+          "summary.csv and summary.json",
+          "[cli][accuracy]") {
+  lgtest::TempDir dir("cli_stiff");
+  std::string text;
+  REQUIRE(simulateCapture(q(lgtest::sourcePath("data/main_gear.toml")) + " --accuracy 1e-3 --threads 1 --out " +
+                              q(dir / "main"),
+                          text) == 0);
+  INFO(text);
+  // limit-spinup: ros34pw2's trial costs more and is handed back; reserve-spinup never reaches the bound.
+  CHECK(text.find("limit-spinup: dopri5 at its stability bound, but ros34pw2 cost more on 1 trial(s): dopri5 "
+                  "throughout\n") != std::string::npos);
+  CHECK(text.find("reserve-spinup:") == std::string::npos);
+  const std::string csv = lgtest::readFile(dir / "main/summary.csv");
+  CHECK(firstLine(csv).find(",stiff_from[s],stiff_handbacks[-],steps,") != std::string::npos);
+  CHECK(std::regex_search(csv, std::regex("\nlimit-spinup,.*,,1,[0-9]+,[0-9]+,[0-9.e-]+\n")));
+  CHECK(std::regex_search(csv, std::regex("\nreserve-spinup,.*,,0,[0-9]+,[0-9]+,[0-9.e-]+\n")));
+  const std::string json = lgtest::readFile(dir / "main/summary.json");
+  CHECK(std::regex_search(json, std::regex("\"stiff_from_s\": null,\n *\"stiff_handbacks\": 1,")));
+  // The seed gear's limit drop hands over for good once at rest after its rebound.
+  REQUIRE(simulateCapture(q(lgtest::sourcePath("data/seed_gear.toml")) + " --case limit --accuracy 1e-3 --threads 1 --out " +
+                              q(dir / "seed"),
+                          text) == 0);
+  CHECK(std::regex_search(text, std::regex("\nlimit: stiff from t = 0\\.40691 s \\(dopri5 at its stability bound\\): "
+                                           "ros34pw2 from there\n")));
+  CHECK(std::regex_search(lgtest::readFile(dir / "seed/summary.json"),
+                          std::regex("\"stiff_from_s\": 0\\.4069[0-9]+,\n *\"stiff_handbacks\": 0,")));
+}
