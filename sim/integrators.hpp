@@ -72,7 +72,7 @@ template <class S> class Integrator {
       if (!ok) return st;
       ++st.steps;
       obs.onStep(c_.m, c_.s, c_.w, c_.dense);
-      if (cfg.stiffSwitchRtol > 0 && !handOver(kind, h, st)) return st;
+      if (cfg.stiffSwitchRtol > 0 && !stiffHandOver(kind, h, st)) return st;
     }
     // An event whose time depends on the parameters (a stop reached, a strut breaking away) moves every
     // later step by that much: the run ends at tEnd in value but at tEnd + dt_event/dp in derivative.
@@ -91,7 +91,7 @@ template <class S> class Integrator {
   // step size as it was (the Rosenbrock steps grow it); its first step needs the damping terms and their
   // responses at that state: one evaluation. A trial that costs more is handed back to dopri5 at its own
   // tolerances and the step it had. Returns false if the evaluation at the switch fails.
-  bool handOver(IntegratorKind& kind, double& h, RunStatus& st) {
+  bool stiffHandOver(IntegratorKind& kind, double& h, RunStatus& st) {
     const double t = value(c_.s.t);
     const long evals = c_.w.rhsEvaluations;
     if (kind == IntegratorKind::DormandPrince) {

@@ -179,7 +179,8 @@ std::string summaryCsv(const std::vector<CaseResult>& results) {
   for (const CaseResult& r : results) drag = drag || r.metrics.longitudinal;
   if (drag) out += "forward_speed[m/s],drag_peak[N],t_drag_peak[s],";
   out += "bottomed,within_limits,violations,";
-  // Where dopri5 may hand over to ros34pw2 (an accuracy setting): the time it did, empty if never.
+  // Where dopri5 may hand over to ros34pw2 (an accuracy setting): the time it did for good, empty if never,
+  // and the trials it handed back.
   bool stiff = false;
   for (const CaseResult& r : results) stiff = stiff || r.metrics.stiff_switch;
   if (stiff) out += "stiff_from[s],stiff_handbacks[-],";

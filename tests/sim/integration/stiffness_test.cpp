@@ -6,6 +6,31 @@
 
 #include "sim/accuracy.hpp"
 
+namespace {
+
+// One case of a scene at accuracy 1e-3, with the hand-over (a) and with dopri5 to the end (b), and their
+// worst metric errors against dopri5 at rtol 1e-10.
+struct WithAndWithout {
+  lg::CaseMetrics a, b;
+  double ea = 0, eb = 0;
+};
+WithAndWithout runWithAndWithout(const lg::Scene& sc, const lg::DropCase& c) {
+  const auto ref = lg::runCase(lg::withSolver(sc, lg::IntegratorKind::DormandPrince, 1e-10), c).metrics;
+  lg::Scene acc = sc;
+  lg::applyAccuracy(acc.model.settings, 1e-3);
+  lg::Scene alone = acc;
+  alone.model.settings.stiffSwitchRtol = 0;  // dopri5 to the end
+  WithAndWithout r{lg::runCase(acc, c).metrics, lg::runCase(alone, c).metrics};
+  REQUIRE(ref.ok);
+  REQUIRE(r.a.ok);
+  REQUIRE(r.b.ok);
+  r.ea = lg::metricErrors(r.a, ref).max();
+  r.eb = lg::metricErrors(r.b, ref).max();
+  return r;
+}
+
+}  // namespace
+
 TEST_CASE("stiffness test: h rho of a linear step is h |lambda|, 15 steps at the bound mark it stiff and 6 below reset the count",
           "[stiffness]") {
   // On y' = lambda y, f(y1) - f(y*) = lambda (y1 - y*) exactly, whatever y1 and y*.
@@ -39,16 +64,7 @@ TEST_CASE("accuracy 1e-3 on a stiff drop: dopri5 hands over to ros34pw2 and keep
   c.name = "no-forward-speed";
   c.forwardSpeed = 0;
   c.sinkSpeed = 2.0;
-  const auto ref = lg::runCase(lg::withSolver(sc, lg::IntegratorKind::DormandPrince, 1e-10), c).metrics;
-  lg::Scene acc = sc;
-  lg::applyAccuracy(acc.model.settings, 1e-3);
-  lg::Scene alone = acc;
-  alone.model.settings.stiffSwitchRtol = 0;  // dopri5 to the end
-  const auto a = lg::runCase(acc, c).metrics, b = lg::runCase(alone, c).metrics;
-  REQUIRE(ref.ok);
-  REQUIRE(a.ok);
-  REQUIRE(b.ok);
-  const double ea = lg::metricErrors(a, ref).max(), eb = lg::metricErrors(b, ref).max();
+  const auto [a, b, ea, eb] = runWithAndWithout(sc, c);
   lgtest::report("stiff drop at accuracy 1e-3: switched at %.5f s, %ld evaluations (error %.2e); dopri5 alone %ld (%.2e)",
                  a.stiff_from_s, a.rhs_evaluations, ea, b.rhs_evaluations, eb);
   CHECK(a.stiff_switch);
@@ -71,9 +87,7 @@ TEST_CASE("a drop that is not stiff is not switched: the accuracy setting's run 
   lg::Scene alone = sc;
   alone.model.settings.stiffSwitchRtol = 0;
   for (const char* name : {"free-drop"}) {
-    lg::DropCase c;
-    for (const auto& k : sc.cases)
-      if (k.name == name) c = k;
+    const lg::DropCase& c = lgtest::findCase(sc, name);
     const auto a = lg::runCase(sc, c).metrics, b = lg::runCase(alone, c).metrics;
     INFO(name);
     CHECK(std::isnan(a.stiff_from_s));
@@ -132,20 +146,8 @@ TEST_CASE("accuracy 1e-3 where the stiffness test fires but ros34pw2 costs more:
   // orifice damping, but ros34pw2 at rtol A/6 is held by accuracy near 1.1 ms: when it kept the run from
   // 0.12 s it cost 60 % more (2849 evaluations in 572 steps, against dopri5 alone's 1776 in 248).
   lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/main_gear.toml"));
-  lg::DropCase c;
-  for (const auto& k : sc.cases)
-    if (k.name == "limit-spinup") c = k;
-  REQUIRE(c.name == "limit-spinup");
-  const auto ref = lg::runCase(lg::withSolver(sc, lg::IntegratorKind::DormandPrince, 1e-10), c).metrics;
-  lg::Scene acc = sc;
-  lg::applyAccuracy(acc.model.settings, 1e-3);
-  lg::Scene alone = acc;
-  alone.model.settings.stiffSwitchRtol = 0;
-  const auto a = lg::runCase(acc, c).metrics, b = lg::runCase(alone, c).metrics;
-  REQUIRE(ref.ok);
-  REQUIRE(a.ok);
-  REQUIRE(b.ok);
-  const double ea = lg::metricErrors(a, ref).max(), eb = lg::metricErrors(b, ref).max();
+  const lg::DropCase& c = lgtest::findCase(sc, "limit-spinup");
+  const auto [a, b, ea, eb] = runWithAndWithout(sc, c);
   lgtest::report("limit-spinup at accuracy 1e-3: %d trial(s) handed back, %ld evaluations (error %.2e); dopri5 alone %ld (%.2e)",
                  a.stiff_handbacks, a.rhs_evaluations, ea, b.rhs_evaluations, eb);
   CHECK(a.stiff_handbacks >= 1);
