@@ -66,6 +66,14 @@ AccuracySetting settingForAccuracy(double accuracy) {
   return a;
 }
 
+double flatPeakAccuracy(double accuracy, double kappa) {
+  if (!(accuracy > 0) || !(kappa > kFlatPeakCondition)) return 0;  // (NaN: no smooth peak, nothing to tighten)
+  // The factor kappa / kFlatPeakCondition rounded up onto the grid 2^(k/4): the double and the Jet run of a
+  // case (whose kappa agree to round-off) take the same setting.
+  const double factor = std::exp2(std::ceil(4 * std::log2(kappa / kFlatPeakCondition)) / 4);
+  return std::max(accuracy / factor, kFlatPeakAccuracyMin);
+}
+
 void applyAccuracy(Settings& s, double accuracy) {
   const AccuracySetting a = settingForAccuracy(accuracy);
   s.integrator = a.integrator;

@@ -1,6 +1,8 @@
 // Forward-mode derivatives of drop-test metrics (drop_gradient.hpp).
 #include "sim/drop_gradient.hpp"
 
+#include "sim/accuracy.hpp"
+
 #include <cmath>
 #include <cstdio>
 
@@ -250,7 +252,11 @@ void checkGradientParameter(const Parameter& p, const std::string& where) {
                                        "sink_speed or lift_ratio");
 }
 
-CaseGradient caseGradient(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params, int width) {
+namespace {
+
+// caseGradient; 'mayRerun' false keeps the scene's settings whatever its peak.
+CaseGradient gradientOf(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params, int width,
+                        bool mayRerun) {
   CaseGradient g;
   g.caseName = c.name;
   for (const auto& p : params) g.parameters.push_back(p.path);
@@ -272,9 +278,28 @@ CaseGradient caseGradient(const Scene& scene, const DropCase& c, const std::vect
     else if (w == 2) ok = runPass<2>(scene, c, params, first, g, kinks);
     else ok = runPass<kJetWidth>(scene, c, params, first, g, kinks);
     if (!ok) break;
+    if (first == 0) {
+      g.values.accuracy = scene.model.settings.accuracy;
+      // A flat peak under an accuracy setting: the case's run at the tighter accuracy (as runCase does).
+      const double tighter = flatPeakAccuracy(scene.model.settings.accuracy, g.values.t_peak_condition);
+      if (mayRerun && tighter > 0) {
+        Scene tight = scene;
+        applyAccuracy(tight.model.settings, tighter);
+        CaseGradient again = gradientOf(tight, c, params, width, /*mayRerun=*/false);
+        again.values.accuracy = scene.model.settings.accuracy;
+        again.values.accuracy_rerun = tighter;
+        return again;
+      }
+    }
     first += static_cast<size_t>(w);
   }
   return g;
+}
+
+}  // namespace
+
+CaseGradient caseGradient(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params, int width) {
+  return gradientOf(scene, c, params, width, /*mayRerun=*/true);
 }
 
 }  // namespace lg

@@ -59,6 +59,8 @@ std::string parameterUnit(const Scene& scene, const Parameter& p);
 // parameter (sink_speed, lift_ratio) acts on its own case only; 'duration' has no derivative (an
 // InputError where resolved for gradients: see checkGradientParameter). 'width' parameters per pass
 // (1 .. kJetWidth); the derivatives do not depend on it.
+// Under an accuracy setting a case whose peak is flat is differentiated at the tighter accuracy runCase
+// runs it at (CaseMetrics::accuracy_rerun in 'values').
 CaseGradient caseGradient(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params,
                           int width = kJetWidth);
 

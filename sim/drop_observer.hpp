@@ -55,6 +55,8 @@ template <class S> struct CaseFigures {
   std::vector<std::pair<double, double>> stickIntervals;  // [t0, t1] where a strut with regularised friction
                                                            // stuck after moving (exact Coulomb: not a kink)
   double tStrokeMax = 0, tHMax = 0, tStrutForceMax = 0;  // [s] when s_max, h_max and P_a,max were reached
+  double peakCurvature = 0;  // [N/s^2] P_y'' at t_peak where the peak is a smooth maximum inside a step (< 0);
+                             // 0 where it is not (a kink, a step's end): the t_peak condition (caseMetrics)
 };
 
 // The metrics (values) of a run's figures, for case c of the scene (defined in drop_test.cpp).
@@ -82,6 +84,7 @@ template <class S> CaseFigures<double> valuesOf(const CaseFigures<S>& F) {
   v.constraint_violation_max = F.constraint_violation_max;
   v.compression_ended = F.compression_ended;
   v.bottomed = F.bottomed;
+  v.peakCurvature = F.peakCurvature;
   return v;
 }
 
@@ -188,11 +191,17 @@ template <class S> class DropObserver {
     workPy_ += simpson(prev_.Py * prev_.hdot, mid_.Py * mid_.hdot, end_.Py * end_.hdot, h);
     // Peak P_y where its rate (the sum of the tyres' P_t') goes from + to -.
     double tPy = -1;
-    if (refine(prev_.PyDot, end_.PyDot, t0, t1, d, [](const Channels& c) { return c.Py; }, F_.peak_load, &F_.t_peak,
-               end_.Py, t1, &tPy, /*everyPeak=*/true) &&
-        tPy >= 0) {
+    const bool newPeak = refine(prev_.PyDot, end_.PyDot, t0, t1, d, [](const Channels& c) { return c.Py; }, F_.peak_load,
+                                &F_.t_peak, end_.Py, t1, &tPy, /*everyPeak=*/true);
+    if (newPeak) F_.peakCurvature = 0;  // (set again below where the new peak is a smooth interior maximum)
+    if (newPeak && tPy >= 0) {
       correctPeakTime(tPy, t0, t1, d);
       lastRefinedTime_ = value(F_.t_peak);  // (this hump's time: the peak's own, polished)
+    } else if (!newPeak && value(F_.t_peak) == value(t0) && value(prev_.PyDot) > 0 && value(end_.PyDot) < 0) {
+      // The maximum is this step's start: the last step ended rising, a hair before the top (its rate a
+      // millionth of its rise), and no value inside this one is larger to round-off. Polished as a peak
+      // found by the search, from t0, so that its time (and its derivatives) are the top's, not the step's.
+      correctPeakTime(value(t0), t0, t1, d, /*fromSearch=*/false);
     }
     if (value(prev_.PyDot) > 0 && value(end_.PyDot) < 0) F_.loadHumps.push_back({lastRefinedTime_, lastRefinedValue_});
     for (size_t k = 0; k < F_.tyres.size(); ++k) {
@@ -461,7 +470,9 @@ template <class S> class DropObserver {
   // than ten times the search's tolerance is not taken (its value; its derivatives are): there the
   // search's point is the better one. (At 1e-3 of the step the derivative part of P' carried the
   // integration's error over a smaller dt: dt*/dp of the seed gear was 2e-5 off the differences.)
-  void correctPeakTime(double t, const S& t0, const S& t1, const DenseOutput<S>& d) {
+  // 'fromSearch' false: t is a step's start, not the search's point (P_y there is evaluated; the step is
+  // taken whatever its size).
+  void correctPeakTime(double t, const S& t0, const S& t1, const DenseOutput<S>& d, bool fromSearch = true) {
     const double h = value(t1) - value(t0), dt = std::max(1e-3 * h, std::min({1e-2 * h, t - value(t0), value(t1) - t}));
     channelsAt(S(t + dt), d, scratch_);
     const S up = scratch_.Py;
@@ -469,17 +480,19 @@ template <class S> class DropObserver {
     const S down = scratch_.Py;
     S mid;
     if constexpr (kDouble) {
-      mid = lastRefinedValue_;  // (P_y at t, from the search)
-    } else {
+      if (fromSearch) mid = lastRefinedValue_;  // (P_y at t, from the search)
+    }
+    if (!kDouble || !fromSearch) {
       channelsAt(S(t), d, scratch_);
       mid = scratch_.Py;
     }
     const S rate = (up - down) / S(2 * dt);                                          // P' [N/s]
     const double curvature = (value(up) - 2 * value(mid) + value(down)) / (dt * dt);  // P'' [N/s^2]
     if (!(curvature < 0)) return;
+    F_.peakCurvature = curvature;
     const S step = rate / S(curvature);
     const double searched = 10 * (kSearchRel * std::abs(t) + searchAbs(t1));  // (refine's tolerance)
-    F_.t_peak = std::abs(value(step)) <= searched ? S(t) - step : S(t) - (step - S(value(step)));
+    F_.t_peak = !fromSearch || std::abs(value(step)) <= searched ? S(t) - step : S(t) - (step - S(value(step)));
   }
 
   // A running maximum of a channel without a rate: from its values at the step's start, middle and

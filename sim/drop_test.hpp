@@ -51,6 +51,10 @@ struct CaseMetrics {
   double mass_kg = 0;                  // W: total mass of the scene in this case
   double peak_load_N = 0;              // max P_y, P_y = sum of the tyre loads
   double t_peak_s = 0;
+  // [-] the condition of t_peak, kappa = P_y,max / (|P_y''| t_peak^2): a load error whose slope is a
+  // fraction e of P_y,max / t_peak moves t_peak by kappa e of itself (t* moves by P'/|P''|). A peak shaped
+  // as a half sine has 4 / pi^2 = 0.41; a flat one more. NaN where the peak is no smooth maximum (a kink).
+  double t_peak_condition = std::numeric_limits<double>::quiet_NaN();
   double load_factor = 0;              // n_g = P_y,max / (W g)
   double inertia_load_factor = 0;      // n = n_g + L (Part 23, 23.473)
   double stroke_max_m = 0;             // max over the struts of their max stroke
@@ -79,6 +83,10 @@ struct CaseMetrics {
   double stiff_from_s = std::numeric_limits<double>::quiet_NaN();  // [s] where dopri5 found the run stiff and
                                        // went on with ros34pw2 to the end (Settings::stiffSwitchRtol); NaN: it never did
   int stiff_handbacks = 0;             // hand-overs to ros34pw2 that cost more than dopri5 and were handed back
+  double accuracy = 0;                 // [-] the accuracy the run's settings were chosen for (0: none; Settings::accuracy)
+  double accuracy_rerun = std::numeric_limits<double>::quiet_NaN();  // [-] the tighter accuracy the case was run
+                                       // again at because its peak was flat (flatPeakAccuracy, sim/accuracy.hpp);
+                                       // NaN: it was not. Steps, evaluations and wall time count both runs.
   double wall_time_s = 0;
 
   // Within every declared limit: no bottoming, every stroke margin >= 0, every tyre within delta_max.
@@ -161,6 +169,9 @@ Model<double> caseModel(const Scene& scene, const DropCase& c);
 // Initial state of a case: scene positions, every body moving at sinkSpeed against gravity.
 State<double> caseState(const Scene& scene, const Model<double>& m, const DropCase& c);
 
+// Runs a case. A run whose settings came from an accuracy (Settings::accuracy) and whose peak turns out
+// flatter than the calibration's (flatPeakAccuracy, sim/accuracy.hpp) is run once more at the tighter
+// accuracy that its peak's time needs; the result is that run's (CaseMetrics::accuracy_rerun says so).
 CaseResult runCase(const Scene& scene, const DropCase& c, const CaseOptions& opt = {});
 
 // Runs several cases (OpenMP, one case per thread); results identical to a serial run.

@@ -49,6 +49,7 @@ std::string metricsJson(const CaseMetrics& m, const std::string& in) {
   num("mass_kg", m.mass_kg);
   num("peak_load_N", m.peak_load_N);
   num("t_peak_s", m.t_peak_s);
+  num("t_peak_condition", m.t_peak_condition);  // (null: the peak is no smooth maximum)
   num("load_factor", m.load_factor);
   num("inertia_load_factor", m.inertia_load_factor);
   num("stroke_max_m", m.stroke_max_m);
@@ -98,6 +99,10 @@ std::string metricsJson(const CaseMetrics& m, const std::string& in) {
   if (m.stiff_switch) {
     num("stiff_from_s", m.stiff_from_s);  // (null: dopri5 to the end)
     o << in << "  \"stiff_handbacks\": " << m.stiff_handbacks << ",\n";
+  }
+  if (m.accuracy > 0) {
+    num("accuracy", m.accuracy);
+    num("accuracy_rerun", m.accuracy_rerun);  // (null: one run was enough)
   }
   num("wall_time_s", m.wall_time_s, true);
   o << in << "}";
@@ -184,6 +189,11 @@ std::string summaryCsv(const std::vector<CaseResult>& results) {
   bool stiff = false;
   for (const CaseResult& r : results) stiff = stiff || r.metrics.stiff_switch;
   if (stiff) out += "stiff_from[s],stiff_handbacks[-],";
+  // Where a case ran under an accuracy setting: the condition of its peak's time and the tighter accuracy
+  // it was run again at, empty if none (flatPeakAccuracy).
+  bool accuracy = false;
+  for (const CaseResult& r : results) accuracy = accuracy || r.metrics.accuracy > 0;
+  if (accuracy) out += "accuracy[-],t_peak_condition[-],accuracy_rerun[-],";
   out += "steps,rhs_evaluations,wall_time[s]\n";
   auto num = [](double v) {
     if (!std::isfinite(v)) return std::string();
@@ -206,6 +216,7 @@ std::string summaryCsv(const std::vector<CaseResult>& results) {
       for (double v : {m.forward_speed_mps, m.drag_peak_N, m.t_drag_peak_s}) out += "," + num(v);
     out += std::string(",") + (m.bottomed ? "1" : "0") + "," + (m.withinLimits() ? "1" : "0") + ",\"" + viol + "\",";
     if (stiff) out += num(m.stiff_from_s) + "," + std::to_string(m.stiff_handbacks) + ",";
+    if (accuracy) out += num(m.accuracy) + "," + num(m.t_peak_condition) + "," + num(m.accuracy_rerun) + ",";
     out += std::to_string(m.steps) + "," + std::to_string(m.rhs_evaluations) + "," + num(m.wall_time_s) + "\n";
   }
   return out;

@@ -359,11 +359,14 @@ TEST_CASE("simulate --accuracy: the stiffness hand-over and its handed-back tria
                   "throughout\n") != std::string::npos);
   CHECK(text.find("reserve-spinup:") == std::string::npos);
   const std::string csv = lgtest::readFile(dir / "main/summary.csv");
-  CHECK(firstLine(csv).find(",stiff_from[s],stiff_handbacks[-],steps,") != std::string::npos);
-  CHECK(std::regex_search(csv, std::regex("\nlimit-spinup,.*,,1,[0-9]+,[0-9]+,[0-9.e-]+\n")));
-  CHECK(std::regex_search(csv, std::regex("\nreserve-spinup,.*,,0,[0-9]+,[0-9]+,[0-9.e-]+\n")));
+  CHECK(firstLine(csv).find(",stiff_from[s],stiff_handbacks[-],accuracy[-],t_peak_condition[-],accuracy_rerun[-],steps,") !=
+        std::string::npos);
+  // (the accuracy asked for, the peak's condition (empty: its sharp peak is no smooth maximum), no second run)
+  CHECK(std::regex_search(csv, std::regex("\nlimit-spinup,.*,,1,0\\.001,[0-9.e-]*,,[0-9]+,[0-9]+,[0-9.e-]+\n")));
+  CHECK(std::regex_search(csv, std::regex("\nreserve-spinup,.*,,0,0\\.001,[0-9.e-]*,,[0-9]+,[0-9]+,[0-9.e-]+\n")));
   const std::string json = lgtest::readFile(dir / "main/summary.json");
-  CHECK(std::regex_search(json, std::regex("\"stiff_from_s\": null,\n *\"stiff_handbacks\": 1,")));
+  CHECK(std::regex_search(
+      json, std::regex("\"stiff_from_s\": null,\n *\"stiff_handbacks\": 1,\n *\"accuracy\": 0\\.001,\n *\"accuracy_rerun\": null,")));
   // The seed gear's limit drop hands over for good once at rest after its rebound.
   REQUIRE(simulateCapture(q(lgtest::sourcePath("data/seed_gear.toml")) + " --case limit --accuracy 1e-3 --threads 1 --out " +
                               q(dir / "seed"),
