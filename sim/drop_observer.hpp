@@ -489,8 +489,11 @@ template <class S> class DropObserver {
     const S rate = (up - down) / S(2 * dt);                                          // P' [N/s]
     const double curvature = (value(up) - 2 * value(mid) + value(down)) / (dt * dt);  // P'' [N/s^2]
     if (!(curvature < 0)) return;
-    F_.peakCurvature = curvature;
     const S step = rate / S(curvature);
+    // From a step's start the top lies ahead, inside the step: P_y falling there already is a kink at t0
+    // (an event between the steps), whose time is the event's.
+    if (!fromSearch && !(value(step) <= 0 && t - value(step) <= value(t1))) return;
+    F_.peakCurvature = curvature;
     const double searched = 10 * (kSearchRel * std::abs(t) + searchAbs(t1));  // (refine's tolerance)
     F_.t_peak = !fromSearch || std::abs(value(step)) <= searched ? S(t) - step : S(t) - (step - S(value(step)));
   }
