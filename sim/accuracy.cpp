@@ -104,6 +104,7 @@ Scene withSolver(const Scene& scene, IntegratorKind kind, double tolerance) {
   Settings& s = sc.model.settings;
   s.integrator = kind;
   s.stiffSwitchRtol = 0;  // (each integrator on its own)
+  s.accuracy = 0;         // (explicit settings: no accuracy's second run of a flat peak either)
   if (kind == IntegratorKind::DormandPrince || isRosenbrock(kind)) {
     s.rtol = tolerance;
     s.atol = tolerance * 1e-2;

@@ -168,6 +168,11 @@ TEST_CASE("the scene key solver.accuracy chooses the solver, and a bad value or 
   CHECK(sc.model.settings.atol == a.atol);
   CHECK(sc.model.settings.maxStep == a.maxStep);
   CHECK(sc.model.settings.accuracy == 1e-2);
+  // A work-precision point (withSolver) is the setting it names: the scene's accuracy is replaced.
+  const lg::Scene point = lg::withSolver(sc, lg::IntegratorKind::DormandPrince, 1e-4);
+  CHECK(point.model.settings.accuracy == 0);
+  CHECK(point.model.settings.stiffSwitchRtol == 0);
+  CHECK(point.model.settings.rtol == 1e-4);
   auto message = [&](const toml::table& d) {
     try {
       lgtest::build(d, "acc.toml");
