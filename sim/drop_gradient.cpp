@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "sim/core/jet.hpp"
 #include "sim/drop_observer.hpp"
@@ -159,7 +160,7 @@ bool runPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>
 // not in this pass).
 template <int N>
 bool historyPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params, size_t first, int timeSlot,
-                 const std::vector<double>& times, HistoryGradient& g) {
+                 const std::vector<double>& times, HistoryGradient& g, double& tPeakCondition) {
   using J = ceres::Jet<double, N>;
   Model<J> m = scene.model.template cast<J>();
   J V(c.sinkSpeed), L(c.liftRatio);
@@ -174,6 +175,7 @@ bool historyPass(const Scene& scene, const DropCase& c, const std::vector<Parame
   rows.reserve(times.size());
   obs.recordRows(&rows, timeSlot);
   const RunStatus st = simulate(m, s, w, c.duration, obs);
+  if (st.ok) tPeakCondition = caseMetrics(valuesOf(obs.finish(s, w)), scene, c).t_peak_condition;
   if (!st.ok || rows.size() != times.size()) {
     g.ok = false;
     g.message = st.ok ? "the run ended before the last output time" : st.message;
@@ -200,10 +202,9 @@ bool historyPass(const Scene& scene, const DropCase& c, const std::vector<Parame
   return true;
 }
 
-}  // namespace
-
-HistoryGradient caseHistoryGradient(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params,
-                                    const std::vector<double>& times, bool rates, int width) {
+// caseHistoryGradient; 'mayRerun' false keeps the scene's settings whatever its peak.
+HistoryGradient historyGradientOf(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params,
+                                  const std::vector<double>& times, bool rates, int width, bool mayRerun) {
   HistoryGradient g;
   g.times = times;
   const size_t ncols = historyColumns(scene).size();
@@ -217,13 +218,28 @@ HistoryGradient caseHistoryGradient(const Scene& scene, const DropCase& c, const
                              ? static_cast<int>(params.size() - first)
                              : -1;
     bool ok = false;
-    if (w == 1) ok = historyPass<1>(scene, c, params, first, timeSlot, times, g);
-    else if (w == 2) ok = historyPass<2>(scene, c, params, first, timeSlot, times, g);
-    else ok = historyPass<kJetWidth>(scene, c, params, first, timeSlot, times, g);
+    double condition = std::numeric_limits<double>::quiet_NaN();
+    if (w == 1) ok = historyPass<1>(scene, c, params, first, timeSlot, times, g, condition);
+    else if (w == 2) ok = historyPass<2>(scene, c, params, first, timeSlot, times, g, condition);
+    else ok = historyPass<kJetWidth>(scene, c, params, first, timeSlot, times, g, condition);
     if (!ok) break;
+    // A flat peak under an accuracy setting: the histories of runCase's second run (its tighter accuracy).
+    const double tighter = first == 0 ? flatPeakAccuracy(scene.model.settings.accuracy, condition) : 0;
+    if (mayRerun && tighter > 0) {
+      Scene tight = scene;
+      applyAccuracy(tight.model.settings, tighter);
+      return historyGradientOf(tight, c, params, times, rates, width, /*mayRerun=*/false);
+    }
     first += static_cast<size_t>(w);
   }
   return g;
+}
+
+}  // namespace
+
+HistoryGradient caseHistoryGradient(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params,
+                                    const std::vector<double>& times, bool rates, int width) {
+  return historyGradientOf(scene, c, params, times, rates, width, /*mayRerun=*/true);
 }
 
 const MetricDerivative* CaseGradient::find(const std::string& metric) const {

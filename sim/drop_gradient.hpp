@@ -70,7 +70,8 @@ CaseGradient caseGradient(const Scene& scene, const DropCase& c, const std::vect
 // along the integrator's dense output (0 in a row at t = 0, which precedes the first step). The rows
 // are those of CaseOptions::outputTimes (strictly increasing in [0, duration]); a row at an event's
 // time is its left limit, and its derivatives are the left side's (the state jumps there). Passes of
-// up to kJetWidth components as in caseGradient, the rates taking one component.
+// up to kJetWidth components as in caseGradient, the rates taking one component. Under an accuracy
+// setting a case whose peak is flat gives the histories of runCase's second run (flatPeakAccuracy).
 struct HistoryGradient {
   bool ok = true;
   std::string message;                          // why the run failed
