@@ -114,6 +114,12 @@ Scene withSolver(const Scene& scene, IntegratorKind kind, double tolerance) {
   return sc;
 }
 
+Scene withAccuracy(const Scene& scene, double accuracy) {
+  Scene sc = scene;
+  applyAccuracy(sc.model.settings, accuracy);
+  return sc;
+}
+
 namespace {
 
 struct Sweep {

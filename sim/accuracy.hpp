@@ -83,6 +83,8 @@ std::vector<WorkPrecisionPoint> workPrecision(const Scene& scene, const std::vec
 // 100), a fixed-step one at step = tolerance. It replaces an accuracy setting of the scene (no hand-over,
 // no second run of a flat peak: the point is the setting it names).
 Scene withSolver(const Scene& scene, IntegratorKind kind, double tolerance);
+// The scene with its solver set for 'accuracy' (applyAccuracy): a flat peak's second run.
+Scene withAccuracy(const Scene& scene, double accuracy);
 // The scene-file name of an integrator ("dopri5", "ros34pw2", ...).
 std::string integratorName(IntegratorKind kind);
 

@@ -1,8 +1,8 @@
 // Drop tests: one case = one engine run from touchdown, observed step by step.
 #include "sim/drop_test.hpp"
 
-#include "sim/drop_observer.hpp"
 #include "sim/accuracy.hpp"
+#include "sim/drop_observer.hpp"
 
 #include <omp.h>
 
@@ -185,9 +185,7 @@ CaseResult runCase(const Scene& scene, const DropCase& c, const CaseOptions& opt
   const double tighter = flatPeakAccuracy(scene.model.settings.accuracy, res.metrics.t_peak_condition);
   if (!(tighter > 0) || !res.metrics.ok || (opt.stop && opt.stop())) return res;
   // A flat peak: its time needs a tighter accuracy than the other metrics (sim/accuracy.hpp).
-  Scene tight = scene;
-  applyAccuracy(tight.model.settings, tighter);
-  CaseResult again = runOnce(tight, c, opt);
+  CaseResult again = runOnce(withAccuracy(scene, tighter), c, opt);
   again.metrics.accuracy = scene.model.settings.accuracy;
   again.metrics.accuracy_rerun = tighter;
   again.metrics.steps += res.metrics.steps;  // (what the case cost: both runs)
