@@ -47,9 +47,19 @@ template <class S> double eventValueAt(StepContext<S>& c, const DenseOutput<S>& 
 // receding inside it: its minimum on the dense output (Brent's search, stopped at the first value on
 // the "after" side) may lie below zero, a contact the ends do not show. If so, returns true with
 // (tb, gb) a point after the crossing, the right end of the bracket for locate.
+//
+// No search where the dip cannot reach zero: under a constant acceleration over the step, the rate
+// going from r0 < 0 to r1 > 0, the function falls below g0 by r0^2 h / (2 (r1 - r0)) <= |r0| h / 2 at
+// most (and below g1 by at most r1 h / 2). The search runs only where min(g0, g1) is within
+// kDipMargin h max(|r0|, r1), twenty times that bound. (The stops that call it most are clear by
+// centimetres, their rates round-off that changed sign: the seed gear's limit drop searched four such
+// dips, 21 values each, for nothing.)
+constexpr double kDipMargin = 10;
 template <class S> bool dipsThrough(StepContext<S>& c, const DenseOutput<S>& dense, int i, double& tb, double& gb) {
   if (i >= c.m.nRows || !c.m.rowInfo[i].unilateral || c.m.rowInfo[i].friction() || c.s.active[i]) return false;
-  if (!(value(c.w.g0[i]) > 0 && value(c.w.g1[i]) > 0 && value(c.w.gRate0[i]) < 0 && value(c.w.gRate1[i]) > 0)) return false;
+  const double g0 = value(c.w.g0[i]), g1 = value(c.w.g1[i]), r0 = value(c.w.gRate0[i]), r1 = value(c.w.gRate1[i]);
+  if (!(g0 > 0 && g1 > 0 && r0 < 0 && r1 > 0)) return false;
+  if (std::min(g0, g1) > kDipMargin * value(dense.h) * std::max(-r0, r1)) return false;
   ScopedStage timer(c.w.timer, kEvents, c.m.settings.profile);
   const double t0 = value(dense.t0);
   double fx = 0;
