@@ -182,8 +182,8 @@ void printTable(const std::vector<lg::CaseResult>& results) {
       std::printf("%s: dopri5 at its stability bound, but ros34pw2 cost more on %d trial(s): dopri5 throughout\n",
                   m.name.c_str(), m.stiff_handbacks);
     if (std::isfinite(m.accuracy_rerun))
-      std::printf("%s: flat peak (t_peak condition %.3g > %.3g): run again at accuracy %.3g for its time\n",
-                  m.name.c_str(), m.t_peak_condition, lg::kFlatPeakCondition, m.accuracy_rerun);
+      std::printf("%s: %s: run again at accuracy %.3g for its time\n", m.name.c_str(), m.accuracy_rerun_reason.c_str(),
+                  m.accuracy_rerun);
   }
 }
 

@@ -74,6 +74,45 @@ double flatPeakAccuracy(double accuracy, double kappa) {
   return std::max(accuracy / factor, kFlatPeakAccuracyMin);
 }
 
+double closePeaksAccuracy(double accuracy, double tPeak, double gap, double tSecond) {
+  if (!(accuracy > 0) || !(gap >= 0) || !(gap < kClosePeaksFactor * accuracy)) return 0;  // (NaN: one maximum)
+  if (!(std::abs(tSecond - tPeak) > accuracy * tPeak)) return 0;  // (either time is within the promise)
+  // The factor rounded up onto the grid 2^(k/4), as flatPeakAccuracy's; a gap of zero takes the floor.
+  const double ratio = kClosePeaksFactor * accuracy / std::max(gap, 1e-300);
+  const double factor = std::exp2(std::ceil(4 * std::log2(ratio)) / 4);
+  return std::max(accuracy / factor, kFlatPeakAccuracyMin);
+}
+
+double rerunAccuracy(double accuracy, const CaseMetrics& m) {
+  const double flat = flatPeakAccuracy(accuracy, m.t_peak_condition);
+  const double close = closePeaksAccuracy(accuracy, m.t_peak_s, m.second_peak_gap, m.t_second_peak_s);
+  if (flat > 0 && close > 0) return std::min(flat, close);
+  return std::max(flat, close);
+}
+
+std::string rerunReason(double accuracy, const CaseMetrics& m) {
+  const double rerun = rerunAccuracy(accuracy, m);
+  if (!(rerun > 0)) return "";
+  char flat[96] = "", close[160] = "";
+  if (flatPeakAccuracy(accuracy, m.t_peak_condition) > 0)
+    std::snprintf(flat, sizeof flat, "flat peak (t_peak condition %.3g > %.3g)", m.t_peak_condition, kFlatPeakCondition);
+  if (closePeaksAccuracy(accuracy, m.t_peak_s, m.second_peak_gap, m.t_second_peak_s) > 0)
+    std::snprintf(close, sizeof close, "%stwo peaks within %.3g %% (t = %.5g s and %.5g s)%s", flat[0] ? ", " : "",
+                  100 * m.second_peak_gap, m.t_peak_s, m.t_second_peak_s,
+                  m.second_peak_gap < kClosePeaksFactor * rerun ? "; closer than any accuracy decides: t_peak may be either"
+                                                               : "");
+  return std::string(flat) + close;
+}
+
+void markRerun(CaseMetrics& again, const CaseMetrics& first, double accuracy, double rerun) {
+  again.accuracy = accuracy;
+  again.accuracy_rerun = rerun;
+  again.accuracy_rerun_reason = rerunReason(accuracy, first);
+  again.steps += first.steps;  // (what the case cost: both runs)
+  again.rhs_evaluations += first.rhs_evaluations;
+  again.wall_time_s += first.wall_time_s;
+}
+
 void applyAccuracy(Settings& s, double accuracy) {
   const AccuracySetting a = settingForAccuracy(accuracy);
   s.integrator = a.integrator;

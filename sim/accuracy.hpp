@@ -47,6 +47,26 @@ AccuracySetting settingForAccuracy(double accuracy);
 constexpr double kFlatPeakCondition = 1.25;
 constexpr double kFlatPeakAccuracyMin = 1e-6;
 double flatPeakAccuracy(double accuracy, double tPeakCondition);
+// Two peaks of nearly one height. Where P_y has another maximum whose height is within 2 A of the peak's
+// (CaseMetrics::second_peak_gap < kClosePeaksFactor A: each height within A, their order is not
+// decided at that accuracy) and whose time is more than A t_peak away from it, the peak's time may jump
+// from one to the other: the nose gear with f1 at 0.6 of its own, at 1.5 m/s without lift, has humps at
+// 0.085 s and 0.235 s within 5e-5 of each other, and its run at 1e-2 reported the first (a t_peak error
+// of 64 times the accuracy; every other metric within 0.6 of it). Its case is then run again at
+//   A' = A / f,  f = kClosePeaksFactor A / gap rounded up to a power of 2^(1/4)   (A' >= kFlatPeakAccuracyMin),
+// where the heights' errors no longer reach the gap. Returns A', or 0 where no second run is needed.
+constexpr double kClosePeaksFactor = 2;
+double closePeaksAccuracy(double accuracy, double tPeak, double secondPeakGap, double tSecondPeak);
+// The accuracy a case is run again at (the tighter of flatPeakAccuracy and closePeaksAccuracy for its
+// first run's metrics), or 0 for none. runCase, caseGradient and caseHistoryGradient all follow it.
+double rerunAccuracy(double accuracy, const CaseMetrics& first);
+// Why (for people): "flat peak (t_peak condition 3.37 > 1.25)", "two peaks within 0.0051 % (t = 0.08535 s
+// and 0.2345 s)", both, and "; closer than accuracy A' decides: t_peak may be either" where the floor
+// kFlatPeakAccuracyMin cannot separate them. Empty where rerunAccuracy is 0.
+std::string rerunReason(double accuracy, const CaseMetrics& first);
+// Marks 'again' (the run at rerunAccuracy) as the second run of 'first': its accuracy, A', the reason,
+// and the cost of both runs.
+void markRerun(CaseMetrics& again, const CaseMetrics& first, double accuracy, double rerun);
 // Sets integrator, rtol, atol and max_step of 's' for 'accuracy' (kAccuracyMin <= accuracy <= kAccuracyMax).
 void applyAccuracy(Settings& s, double accuracy);
 // The relative accuracy of the metrics that solver settings give, by the same calibration read backwards:

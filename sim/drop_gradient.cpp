@@ -160,7 +160,7 @@ bool runPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>
 // not in this pass).
 template <int N>
 bool historyPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params, size_t first, int timeSlot,
-                 const std::vector<double>& times, HistoryGradient& g, double* tPeakCondition) {
+                 const std::vector<double>& times, HistoryGradient& g, CaseMetrics* firstMetrics) {
   using J = ceres::Jet<double, N>;
   Model<J> m = scene.model.template cast<J>();
   J V(c.sinkSpeed), L(c.liftRatio);
@@ -175,7 +175,7 @@ bool historyPass(const Scene& scene, const DropCase& c, const std::vector<Parame
   rows.reserve(times.size());
   obs.recordRows(&rows, timeSlot);
   const RunStatus st = simulate(m, s, w, c.duration, obs);
-  if (st.ok && tPeakCondition) *tPeakCondition = caseMetrics(valuesOf(obs.finish(s, w)), scene, c).t_peak_condition;
+  if (st.ok && firstMetrics) *firstMetrics = caseMetrics(valuesOf(obs.finish(s, w)), scene, c);
   if (!st.ok || rows.size() != times.size()) {
     g.ok = false;
     g.message = st.ok ? "the run ended before the last output time" : st.message;
@@ -218,15 +218,15 @@ HistoryGradient historyGradientOf(const Scene& scene, const DropCase& c, const s
                              ? static_cast<int>(params.size() - first)
                              : -1;
     bool ok = false;
-    // A flat peak under an accuracy setting: the histories of runCase's second run (its tighter accuracy),
-    // decided on the first pass's t_peak condition.
-    double condition = std::numeric_limits<double>::quiet_NaN();
-    double* want = mayRerun && first == 0 && scene.model.settings.accuracy > 0 ? &condition : nullptr;
+    // A flat peak or two of nearly one height under an accuracy setting: the histories of runCase's
+    // second run (its tighter accuracy), decided on the first pass's metrics.
+    CaseMetrics firstMetrics;
+    CaseMetrics* want = mayRerun && first == 0 && scene.model.settings.accuracy > 0 ? &firstMetrics : nullptr;
     if (w == 1) ok = historyPass<1>(scene, c, params, first, timeSlot, times, g, want);
     else if (w == 2) ok = historyPass<2>(scene, c, params, first, timeSlot, times, g, want);
     else ok = historyPass<kJetWidth>(scene, c, params, first, timeSlot, times, g, want);
     if (!ok) break;
-    const double tighter = want ? flatPeakAccuracy(scene.model.settings.accuracy, condition) : 0;
+    const double tighter = want ? rerunAccuracy(scene.model.settings.accuracy, firstMetrics) : 0;
     if (tighter > 0)
       return historyGradientOf(withAccuracy(scene, tighter), c, params, times, rates, width, /*mayRerun=*/false);
     first += static_cast<size_t>(w);
@@ -295,12 +295,14 @@ CaseGradient gradientOf(const Scene& scene, const DropCase& c, const std::vector
     if (!ok) break;
     if (first == 0) {
       g.values.accuracy = scene.model.settings.accuracy;
-      // A flat peak under an accuracy setting: the case's run at the tighter accuracy (as runCase does).
-      const double tighter = flatPeakAccuracy(scene.model.settings.accuracy, g.values.t_peak_condition);
+      // A flat peak or two of nearly one height under an accuracy setting: the case's run at the tighter
+      // accuracy (as runCase does).
+      const double tighter = rerunAccuracy(scene.model.settings.accuracy, g.values);
       if (mayRerun && tighter > 0) {
         CaseGradient again = gradientOf(withAccuracy(scene, tighter), c, params, width, /*mayRerun=*/false);
         again.values.accuracy = scene.model.settings.accuracy;
         again.values.accuracy_rerun = tighter;
+        again.values.accuracy_rerun_reason = rerunReason(scene.model.settings.accuracy, g.values);
         return again;
       }
     }

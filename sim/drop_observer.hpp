@@ -85,6 +85,7 @@ template <class S> CaseFigures<double> valuesOf(const CaseFigures<S>& F) {
   v.compression_ended = F.compression_ended;
   v.bottomed = F.bottomed;
   v.peakCurvature = F.peakCurvature;
+  v.loadHumps = F.loadHumps;  // (values already: the second peak's gap, caseMetrics)
   return v;
 }
 

@@ -55,6 +55,10 @@ struct CaseMetrics {
   // fraction e of P_y,max / t_peak moves t_peak by kappa e of itself (t* moves by P'/|P''|). A peak shaped
   // as a half sine has 4 / pi^2 = 0.41; a flat one more. NaN where the peak is no smooth maximum (a kink).
   double t_peak_condition = std::numeric_limits<double>::quiet_NaN();
+  // [-] the next-highest maximum of P_y inside the run (another hump of the load): its height's gap below
+  // the peak, (P_y,max - P_2) / P_y,max, and [s] its time; NaN where the load has no other maximum.
+  double second_peak_gap = std::numeric_limits<double>::quiet_NaN();
+  double t_second_peak_s = std::numeric_limits<double>::quiet_NaN();
   double load_factor = 0;              // n_g = P_y,max / (W g)
   double inertia_load_factor = 0;      // n = n_g + L (Part 23, 23.473)
   double stroke_max_m = 0;             // max over the struts of their max stroke
@@ -85,8 +89,9 @@ struct CaseMetrics {
   int stiff_handbacks = 0;             // hand-overs to ros34pw2 that cost more than dopri5 and were handed back
   double accuracy = 0;                 // [-] the accuracy the run's settings were chosen for (0: none; Settings::accuracy)
   double accuracy_rerun = std::numeric_limits<double>::quiet_NaN();  // [-] the tighter accuracy the case was run
-                                       // again at because its peak was flat (flatPeakAccuracy, sim/accuracy.hpp);
+                                       // again at because its peak was flat or had a twin (rerunAccuracy, sim/accuracy.hpp);
                                        // NaN: it was not. Steps, evaluations and wall time count both runs.
+  std::string accuracy_rerun_reason;   // why it was run again (rerunReason), empty if it was not
   double wall_time_s = 0;
 
   // Within every declared limit: no bottoming, every stroke margin >= 0, every tyre within delta_max.

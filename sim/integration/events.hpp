@@ -4,6 +4,7 @@
 // (resolveContacts); a friction slip that reversed unseen inside a step.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <type_traits>
 

@@ -50,6 +50,8 @@ std::string metricsJson(const CaseMetrics& m, const std::string& in) {
   num("peak_load_N", m.peak_load_N);
   num("t_peak_s", m.t_peak_s);
   num("t_peak_condition", m.t_peak_condition);  // (null: the peak is no smooth maximum)
+  num("second_peak_gap", m.second_peak_gap);    // (null: P_y has no other maximum)
+  num("t_second_peak_s", m.t_second_peak_s);
   num("load_factor", m.load_factor);
   num("inertia_load_factor", m.inertia_load_factor);
   num("stroke_max_m", m.stroke_max_m);
@@ -103,6 +105,8 @@ std::string metricsJson(const CaseMetrics& m, const std::string& in) {
   if (m.accuracy > 0) {
     num("accuracy", m.accuracy);
     num("accuracy_rerun", m.accuracy_rerun);  // (null: one run was enough)
+    if (!m.accuracy_rerun_reason.empty())
+      o << in << "  \"accuracy_rerun_reason\": " << jsonString(m.accuracy_rerun_reason) << ",\n";
   }
   num("wall_time_s", m.wall_time_s, true);
   o << in << "}";
