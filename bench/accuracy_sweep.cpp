@@ -1,0 +1,145 @@
+// accuracy_sweep [--threads N] [--worst K]: how `--accuracy` holds off the shipped cases. The seed, nose,
+// telescopic and main gears, each as shipped and with one parameter changed (the main orifice f1 x 0.6
+// and x 1.6, the gas pressure p01 x 0.5 and x 2, the tyre stiffness K x 0.5 and x 2 where the tyre
+// declares K, the airframe's mass x 0.7, the strut friction mu 0 and 0.15), dropped at 1.5, 2.5 and
+// 3.5 m/s with lift ratios 0 and 1, at accuracies 1e-2, 1e-3 and 1e-4, against dopri5 at rtol 1e-10: the
+// largest relative error of the promised metrics over the accuracy, per run, the worst K of them, the
+// cases run again (a flat peak, two close peaks) and the evaluations. Prints figures; never a test (about
+// 25 s: the references dominate). Run from the project root.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "apps/cli.hpp"
+#include "sim/accuracy.hpp"
+#include "sim/io/overrides.hpp"
+#include "sim/io/scene.hpp"
+#include "sim/parameters.hpp"
+
+namespace {
+
+struct Gear {
+  const char* scene;
+  const char* strut;  // the shock absorber's name
+  const char* tyre;   // the tyre's name, or nullptr where its K is not a scalar
+};
+
+struct Variant {
+  std::string name;
+  std::vector<lg::ParameterOverride> sets;
+};
+
+double number(const lg::Scene& sc, const std::string& path) {
+  return lg::parameterValue(sc, lg::resolveParameter(sc, path, "accuracy_sweep"));
+}
+
+std::vector<Variant> variants(const lg::Scene& sc, const Gear& g) {
+  const std::string s = g.strut;
+  std::vector<Variant> v{{"as shipped", {}}};
+  auto scaled = [&](const std::string& path, double f, const std::string& label) {
+    v.push_back({label, {{path, number(sc, path) * f}}});
+  };
+  scaled(s + ".f1", 0.6, "f1 x 0.6");
+  scaled(s + ".f1", 1.6, "f1 x 1.6");
+  scaled(s + ".p01", 0.5, "p01 x 0.5");
+  scaled(s + ".p01", 2.0, "p01 x 2");
+  if (g.tyre) {
+    scaled(std::string(g.tyre) + ".K", 0.5, "K x 0.5");
+    scaled(std::string(g.tyre) + ".K", 2.0, "K x 2");
+  }
+  scaled("airframe.mass", 0.7, "mass x 0.7");
+  v.push_back({"mu 0", {{s + ".mu", 0.0}}});
+  v.push_back({"mu 0.15", {{s + ".mu", 0.15}}});
+  return v;
+}
+
+struct Row {
+  double ratio;  // worst error / accuracy
+  std::string gear, variant, metric;
+  double accuracy;
+  std::string caseName, rerun;
+  long evaluations;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"How --accuracy holds off the shipped cases: four gears, ten variants, six drops, three "
+               "accuracies against dopri5 at rtol 1e-10 (run from the project root)"};
+  lg::cli::addVersion(app, "accuracy_sweep");
+  int threads = 0, worst = 20;
+  app.add_option("--threads", threads, "threads over the cases (default 0: all cores)")->check(CLI::Range(0, 4096));
+  app.add_option("--worst", worst, "runs listed, worst first (default 20)")->check(CLI::Range(1, 100000));
+  if (const int rc = lg::cli::parse(app, argc, argv); rc >= 0) return rc;
+  const std::vector<Gear> gears{{"data/seed_gear.toml", "strut", "tyre"},
+                                {"data/nose_gear.toml", "strut", "tyre"},
+                                {"data/telescopic_gear.toml", "shock", "tyre"},
+                                {"data/main_gear.toml", "strut", nullptr}};
+  std::vector<lg::DropCase> cases;
+  for (double V : {1.5, 2.5, 3.5})
+    for (double L : {0.0, 1.0}) {
+      lg::DropCase c;
+      char name[32];
+      std::snprintf(name, sizeof name, "V%g_L%g", V, L);
+      c.name = name;
+      c.sinkSpeed = V;
+      c.liftRatio = L;
+      cases.push_back(c);
+    }
+  const std::vector<double> accuracies{1e-2, 1e-3, 1e-4};
+  std::vector<Row> rows;
+  std::vector<long> evaluations(accuracies.size(), 0);
+  std::vector<int> reruns(accuracies.size(), 0), failed(accuracies.size(), 0);
+  try {
+    for (const Gear& g : gears) {
+      const lg::Scene base = lg::loadScene(g.scene);
+      for (const Variant& v : variants(base, g)) {
+        const lg::Scene sc = lg::applyOverrides(base, v.sets);
+        const auto ref = lg::runCases(lg::withSolver(sc, lg::IntegratorKind::DormandPrince, 1e-10), cases, threads);
+        for (size_t a = 0; a < accuracies.size(); ++a) {
+          const auto res = lg::runCases(lg::withAccuracy(sc, accuracies[a]), cases, threads);
+          for (size_t k = 0; k < cases.size(); ++k) {
+            const lg::CaseMetrics &m = res[k].metrics, &r = ref[k].metrics;
+            if (!m.ok || !r.ok) {
+              ++failed[a];
+              std::printf("failed: %s, %s, %s at %g: %s\n", g.scene, v.name.c_str(), cases[k].name.c_str(), accuracies[a],
+                          (m.ok ? r.message : m.message).c_str());
+              continue;
+            }
+            const lg::MetricErrors e = lg::metricErrors(m, r);
+            const std::pair<double, const char*> all[] = {
+                {e.peakLoad, "peak load"},   {e.tPeak, "t_peak"},         {e.stroke, "stroke"},
+                {e.travel, "h_max"},         {e.tyreDeflection, "tyre"}, {e.efficiency, "efficiency"},
+                {e.strutForce, "P_a,max"}};
+            const auto* w = std::max_element(std::begin(all), std::end(all));
+            char rerun[32] = "";
+            if (std::isfinite(m.accuracy_rerun)) std::snprintf(rerun, sizeof rerun, "%.3g", m.accuracy_rerun);
+            rows.push_back({w->first / accuracies[a], g.scene, v.name, w->second, accuracies[a], cases[k].name, rerun,
+                            m.rhs_evaluations});
+            evaluations[a] += m.rhs_evaluations;
+            reruns[a] += std::isfinite(m.accuracy_rerun) ? 1 : 0;
+          }
+        }
+      }
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s (run from the project root)\n", e.what());
+    return 2;
+  }
+  std::stable_sort(rows.begin(), rows.end(), [](const Row& x, const Row& y) { return x.ratio > y.ratio; });
+  std::printf("%zu runs; the worst %d (largest metric error over the accuracy):\n", rows.size(),
+              std::min<int>(worst, static_cast<int>(rows.size())));
+  std::printf("%8s  %-26s %-11s %-8s %-7s %-10s %-9s %s\n", "err/A", "scene", "variant", "accuracy", "case", "metric",
+              "rerun at", "evaluations");
+  for (int i = 0; i < worst && i < static_cast<int>(rows.size()); ++i) {
+    const Row& r = rows[i];
+    std::printf("%8.3f  %-26s %-11s %-8g %-7s %-10s %-9s %ld\n", r.ratio, r.gear.c_str(), r.variant.c_str(), r.accuracy,
+                r.caseName.c_str(), r.metric.c_str(), r.rerun.empty() ? "-" : r.rerun.c_str(), r.evaluations);
+  }
+  for (size_t a = 0; a < accuracies.size(); ++a)
+    std::printf("accuracy %g: %ld evaluations, %d case(s) run again, %d failed\n", accuracies[a], evaluations[a],
+                reruns[a], failed[a]);
+  return 0;
+}
