@@ -432,7 +432,9 @@ TEST_CASE("two peaks of nearly one height under an accuracy setting are run agai
   CHECK(r1.metrics.second_peak_gap < 2e-2);
   CHECK(std::isnan(r1.metrics.accuracy_rerun));
   CHECK(r.metrics.accuracy_rerun == lg::rerunAccuracy(1e-2, r1.metrics));
-  CHECK(r.metrics.accuracy_rerun == Approx(1e-2 / 512).epsilon(1e-15));
+  // (measured 1e-2 / 512: the first run's gap, 4.0e-5, sets it; a point of the grid either side would do)
+  CHECK(r.metrics.accuracy_rerun <= 1e-2 / 256);
+  CHECK(r.metrics.accuracy_rerun >= 1e-2 / 1024);
   CHECK(r.metrics.accuracy_rerun_reason.rfind("two peaks within 0.00", 0) == 0);
   CHECK(e.max() <= 1e-2);
   CHECK(e.tPeak < 1e-5);  // (measured 1e-6)
@@ -481,9 +483,9 @@ TEST_CASE("simulate --accuracy names two close peaks' second run on the terminal
   const std::string text = lgtest::readFile(log);
   INFO(text);
   CHECK(std::regex_search(text, std::regex("\nV1\\.5_L0: two peaks within 0\\.00[0-9]+ % \\(t = 0\\.085[0-9]+ s and "
-                                           "0\\.234[0-9]+ s\\): run again at accuracy 1\\.95e-05 for its time\n")));
+                                           "0\\.234[0-9]+ s\\): run again at accuracy [1-3]\\.[0-9]+e-05 for its time\n")));
   const std::string json = lgtest::readFile(dir / "out/summary.json");
   CHECK(std::regex_search(json, std::regex("\"second_peak_gap\": 0\\.0013[0-9]+,\n *\"t_second_peak_s\": 0\\.085[0-9]+,")));
-  CHECK(std::regex_search(json, std::regex("\"accuracy_rerun\": 1\\.953125e-05,\n *\"accuracy_rerun_reason\": \"two peaks "
+  CHECK(std::regex_search(json, std::regex("\"accuracy_rerun\": [1-3]\\.[0-9]+e-05,\n *\"accuracy_rerun_reason\": \"two peaks "
                                            "within 0\\.00[0-9]+ % \\(t = 0\\.085[0-9]+ s and 0\\.234[0-9]+ s\\)\",")));
 }
