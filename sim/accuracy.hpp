@@ -34,6 +34,7 @@ struct AccuracySetting {
 constexpr double kAccuracyMin = 1e-5;  // the range of accuracies the mapping covers (below 1e-5 the time
                                        // of a flat peak is not defined that well: two maxima within 1e-6 s)
 constexpr double kAccuracyMax = 1e-1;
+constexpr double kAccuracyTightEnd = 1e-4;  // below it ros34pw2 at accuracy / 8 (settingForAccuracy)
 AccuracySetting settingForAccuracy(double accuracy);
 // The time of a flat peak. The calibration's cases have t_peak conditions (CaseMetrics::t_peak_condition,
 // kappa) up to 1.22; at kappa up to kFlatPeakCondition their t_peak errors stay below 0.66 of the
