@@ -48,12 +48,7 @@ struct Kinks {
 template <class S> Kinks findKinks(const CaseFigures<S>& F, const DropCase& c, double bottomSpeed) {
   Kinks k;
   const double peak = value(F.peak_load), tPeak = value(F.t_peak);
-  double other = -1, tOther = 0;
-  for (const auto& [t, v] : F.loadHumps)
-    if (std::abs(t - tPeak) > 1e-9 * std::max(1.0, tPeak) && v > other) {
-      other = v;
-      tOther = t;
-    }
+  const auto [tOther, other] = secondLoadHump(F);
   if (other > 0 && peak > 0 && (peak - other) / peak < 1e-3)
     k.humps = "two maxima of P_y within " + num(100 * (peak - other) / peak, 2) + " % (at t = " + num(tPeak) + " s and " +
               num(tOther) + " s): the peak can jump between them; the derivative is the one of the hump at t = " +

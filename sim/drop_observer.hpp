@@ -18,9 +18,11 @@
 // regularised friction decides).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "sim/core/brent.hpp"
@@ -58,6 +60,16 @@ template <class S> struct CaseFigures {
   double peakCurvature = 0;  // [N/s^2] P_y'' at t_peak where the peak is a smooth maximum inside a step (< 0);
                              // 0 where it is not (a kink, a step's end): the t_peak condition (caseMetrics)
 };
+
+// The highest maximum of P_y other than the peak's own hump (told apart by its time): (t, P_2), or
+// (NaN, -inf) where the load has no other maximum. caseMetrics' second peak and the gradients' kinks.
+template <class S> std::pair<double, double> secondLoadHump(const CaseFigures<S>& F) {
+  const double tPeak = value(F.t_peak);
+  std::pair<double, double> best{std::numeric_limits<double>::quiet_NaN(), -std::numeric_limits<double>::infinity()};
+  for (const auto& [t, v] : F.loadHumps)
+    if (std::abs(t - tPeak) > 1e-9 * std::max(1.0, tPeak) && v > best.second) best = {t, v};
+  return best;
+}
 
 // The metrics (values) of a run's figures, for case c of the scene (defined in drop_test.cpp).
 CaseMetrics caseMetrics(const CaseFigures<double>& F, const Scene& scene, const DropCase& c);

@@ -107,14 +107,10 @@ CaseMetrics caseMetrics(const CaseFigures<double>& F, const Scene& scene, const 
   M.t_peak_s = F.t_peak;
   if (F.peakCurvature < 0 && F.t_peak > 0 && F.peak_load > 0)
     M.t_peak_condition = F.peak_load / (-F.peakCurvature * F.t_peak * F.t_peak);
-  double second = -std::numeric_limits<double>::infinity();
-  for (const auto& [t, v] : F.loadHumps)  // (the peak's own hump excluded by its time)
-    if (std::abs(t - F.t_peak) > 1e-9 * std::max(1.0, F.t_peak) && v > second) {
-      second = v;
-      M.t_second_peak_s = t;
-    }
-  if (std::isfinite(second) && F.peak_load > 0) M.second_peak_gap = (F.peak_load - second) / F.peak_load;
-  else M.t_second_peak_s = std::numeric_limits<double>::quiet_NaN();
+  if (const auto [t2, P2] = secondLoadHump(F); std::isfinite(P2) && F.peak_load > 0) {
+    M.second_peak_gap = (F.peak_load - P2) / F.peak_load;
+    M.t_second_peak_s = t2;
+  }
   M.load_factor = F.load_factor;
   M.inertia_load_factor = F.inertia_load_factor;
   M.stroke_max_m = F.stroke_max;
