@@ -5,7 +5,8 @@
 // 3.5 m/s with lift ratios 0 and 1, at accuracies 1e-2, 1e-3 and 1e-4 (or those given), against dopri5 at rtol 1e-10: the
 // largest relative error of the promised metrics over the accuracy, per run, the worst K of them, the
 // cases run again (a flat peak, two close peaks) and the evaluations. Prints figures; never a test (about
-// 25 s: the references dominate). Run from the project root.
+// 25 s: the references dominate). Each run also shows its energy balance error over the accuracy (energy/A).
+// Run from the project root.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -61,6 +62,7 @@ struct Row {
   double accuracy;
   std::string caseName, rerun;
   long evaluations;
+  double energy;  // the run's energy balance error / accuracy
 };
 
 }  // namespace
@@ -120,7 +122,7 @@ int main(int argc, char** argv) {
             char rerun[32] = "";
             if (std::isfinite(m.accuracy_rerun)) std::snprintf(rerun, sizeof rerun, "%.3g", m.accuracy_rerun);
             rows.push_back({w->first / accuracies[a], g.scene, v.name, w->second, accuracies[a], cases[k].name, rerun,
-                            m.rhs_evaluations});
+                            m.rhs_evaluations, m.energy_balance_error / accuracies[a]});
             evaluations[a] += m.rhs_evaluations;
             reruns[a] += std::isfinite(m.accuracy_rerun) ? 1 : 0;
           }
@@ -134,12 +136,13 @@ int main(int argc, char** argv) {
   std::stable_sort(rows.begin(), rows.end(), [](const Row& x, const Row& y) { return x.ratio > y.ratio; });
   std::printf("%zu runs; the worst %d (largest metric error over the accuracy):\n", rows.size(),
               std::min<int>(worst, static_cast<int>(rows.size())));
-  std::printf("%8s  %-26s %-11s %-8s %-7s %-10s %-9s %s\n", "err/A", "scene", "variant", "accuracy", "case", "metric",
-              "rerun at", "evaluations");
+  std::printf("%8s  %-26s %-11s %-8s %-7s %-10s %-9s %-11s %s\n", "err/A", "scene", "variant", "accuracy", "case",
+              "metric", "rerun at", "evaluations", "energy/A");
   for (int i = 0; i < worst && i < static_cast<int>(rows.size()); ++i) {
     const Row& r = rows[i];
-    std::printf("%8.3f  %-26s %-11s %-8g %-7s %-10s %-9s %ld\n", r.ratio, r.gear.c_str(), r.variant.c_str(), r.accuracy,
-                r.caseName.c_str(), r.metric.c_str(), r.rerun.empty() ? "-" : r.rerun.c_str(), r.evaluations);
+    std::printf("%8.3f  %-26s %-11s %-8g %-7s %-10s %-9s %-11ld %.3g\n", r.ratio, r.gear.c_str(), r.variant.c_str(),
+                r.accuracy, r.caseName.c_str(), r.metric.c_str(), r.rerun.empty() ? "-" : r.rerun.c_str(), r.evaluations,
+                r.energy);
   }
   for (size_t a = 0; a < accuracies.size(); ++a)
     std::printf("accuracy %g: %ld evaluations, %d case(s) run again, %d failed\n", accuracies[a], evaluations[a],
