@@ -53,7 +53,8 @@ template <class S> struct CaseFigures {
   double energy_dissipated = 0, energy_balance_error = 0, constraint_violation_max = 0;
   bool compression_ended = false, bottomed = false;
   // For the kink report (values only).
-  std::vector<std::pair<double, double>> loadHumps;     // (t, P_y) of each interior local maximum of P_y
+  std::vector<std::pair<double, double>> loadHumps;     // (t, P_y) of each local maximum of P_y: interior
+                                                         // (P_y' from + to -) or at an event (a kink)
   std::vector<std::pair<double, double>> stickIntervals;  // [t0, t1] where a strut with regularised friction
                                                            // stuck after moving (exact Coulomb: not a kink)
   double tStrokeMax = 0, tHMax = 0, tStrutForceMax = 0;  // [s] when s_max, h_max and P_a,max were reached
@@ -280,6 +281,10 @@ template <class S> class DropObserver {
       after_.PyDot = end_.PyDot;
       after_.dPt = end_.dPt;
     }
+    // A kink maximum of P_y: rising into an event at t1, not rising after it (a stop engaging, a strut
+    // locking, the tyre's spin-up ending). A hump like the interior ones, at the event's time.
+    if (d.endsOnEvent && value(end_.PyDot) > 0 && !(value(after_.PyDot) > 0))
+      F_.loadHumps.push_back({value(t1), std::max(value(end_.Py), value(after_.Py))});
     for (size_t k = 0; k < F_.struts.size(); ++k) F_.struts[k].force_max = maxByValue(F_.struts[k].force_max, after_.Pa[k]);
     if (recording() && !denseRows()) record(value(s.t), endW, s.lambda, s.active, w);
     stepActive_ = s.active;  // after any event at t1: the next step's mode
