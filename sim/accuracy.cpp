@@ -91,14 +91,17 @@ double flatPeakAccuracy(double accuracy, double kappa) {
   return std::max(accuracy / factor, kFlatPeakAccuracyMin);
 }
 
-double closePeaksAccuracy(double accuracy, double tPeak, double gap, double tSecond) {
-  if (!(accuracy > 0) || !(gap >= 0) || !(gap < kClosePeaksFactor * accuracyDelivered(accuracy)))
-    return 0;  // (NaN: one maximum)
-  if (!(std::abs(tSecond - tPeak) > accuracy * tPeak)) return 0;  // (either time is within the promise)
-  // The factor rounded up onto the grid 2^(k/4), as flatPeakAccuracy's; a gap of zero takes the floor.
-  const double ratio = kClosePeaksFactor * accuracy / std::max(gap, 1e-300);
-  const double factor = std::exp2(std::ceil(4 * std::log2(ratio)) / 4);
-  return std::max(accuracy / factor, kFlatPeakAccuracyMin);
+double closePeaksAccuracy(double ran, double tPeak, double gap, double tSecond, double asked) {
+  if (!(asked > 0)) asked = ran;
+  const double a = accuracyDelivered(ran);
+  if (!(ran > 0) || !(gap >= 0) || !(gap < kClosePeaksFactor * a)) return 0;  // (NaN: one maximum)
+  if (!(std::abs(tSecond - tPeak) > asked * tPeak)) return 0;  // (either time is within the promise)
+  if (!(ran > kFlatPeakAccuracyMin)) return 0;                 // (the floor was run: nothing tighter)
+  // The factor rounded up onto the grid 2^(k/4), as flatPeakAccuracy's, at most kClosePeaksStep; a gap
+  // of zero takes the step.
+  const double ratio = kClosePeaksFactor * a / std::max(gap, 1e-300);
+  const double factor = std::min(std::exp2(std::ceil(4 * std::log2(ratio)) / 4), kClosePeaksStep);
+  return std::max(a / factor, kFlatPeakAccuracyMin);
 }
 
 double rerunAccuracy(double accuracy, const CaseMetrics& m) {
@@ -108,28 +111,58 @@ double rerunAccuracy(double accuracy, const CaseMetrics& m) {
   return std::max(flat, close);
 }
 
-std::string rerunReason(double accuracy, const CaseMetrics& m) {
-  const double rerun = rerunAccuracy(accuracy, m);
-  if (!(rerun > 0)) return "";
-  char flat[96] = "", close[160] = "";
-  if (flatPeakAccuracy(accuracy, m.t_peak_condition) > 0)
-    std::snprintf(flat, sizeof flat, "flat peak (t_peak condition %.3g > %.3g)", m.t_peak_condition,
-                  kFlatPeakCondition * accuracy / accuracyDelivered(accuracy));
-  if (closePeaksAccuracy(accuracy, m.t_peak_s, m.second_peak_gap, m.t_second_peak_s) > 0)
-    std::snprintf(close, sizeof close, "%stwo peaks within %.3g %% (t = %.5g s and %.5g s)%s", flat[0] ? ", " : "",
-                  100 * m.second_peak_gap, m.t_peak_s, m.t_second_peak_s,
-                  m.second_peak_gap < kClosePeaksFactor * rerun ? "; closer than any accuracy decides: t_peak may be either"
-                                                               : "");
-  return std::string(flat) + close;
+double nextAccuracy(double asked, double ran, const CaseMetrics& m) {
+  if (ran == asked) return rerunAccuracy(asked, m);
+  return closePeaksAccuracy(ran, m.t_peak_s, m.second_peak_gap, m.t_second_peak_s, asked);
 }
 
-void markRerun(CaseMetrics& again, const CaseMetrics& first, double accuracy, double rerun) {
-  again.accuracy = accuracy;
+namespace {
+
+std::string closeWords(const CaseMetrics& m) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "two peaks within %.3g %% (t = %.5g s and %.5g s)", 100 * m.second_peak_gap, m.t_peak_s,
+                m.t_second_peak_s);
+  return buf;
+}
+
+}  // namespace
+
+std::string rerunReason(double accuracy, const CaseMetrics& m) {
+  if (!(rerunAccuracy(accuracy, m) > 0)) return "";
+  std::string out;
+  if (flatPeakAccuracy(accuracy, m.t_peak_condition) > 0) {
+    char flat[96];
+    std::snprintf(flat, sizeof flat, "flat peak (t_peak condition %.3g > %.3g)", m.t_peak_condition,
+                  kFlatPeakCondition * accuracy / accuracyDelivered(accuracy));
+    out = flat;
+  }
+  if (closePeaksAccuracy(accuracy, m.t_peak_s, m.second_peak_gap, m.t_second_peak_s) > 0)
+    out += (out.empty() ? "" : ", ") + closeWords(m);
+  return out;
+}
+
+std::string nextReason(double asked, double ran, const CaseMetrics& m) {
+  if (ran == asked) return rerunReason(asked, m);
+  if (!(nextAccuracy(asked, ran, m) > 0)) return "";
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "at %.3g still within %.3g %%", ran, 100 * m.second_peak_gap);
+  return buf;
+}
+
+std::string undecidedPeaks(double asked, double ran, const CaseMetrics& m) {
+  const bool undecided = m.second_peak_gap >= 0 && m.second_peak_gap < kClosePeaksFactor * accuracyDelivered(ran) &&
+                         std::abs(m.t_second_peak_s - m.t_peak_s) > asked * m.t_peak_s;
+  return undecided && !(ran > kFlatPeakAccuracyMin) ? "; closer than any accuracy decides: t_peak may be either" : "";
+}
+
+void markRerun(CaseMetrics& again, const CaseMetrics& before, double asked, double ran, double rerun) {
+  again.accuracy = asked;
   again.accuracy_rerun = rerun;
-  again.accuracy_rerun_reason = rerunReason(accuracy, first);
-  again.steps += first.steps;  // (what the case cost: both runs)
-  again.rhs_evaluations += first.rhs_evaluations;
-  again.wall_time_s += first.wall_time_s;
+  const std::string why = nextReason(asked, ran, before);
+  again.accuracy_rerun_reason = before.accuracy_rerun_reason.empty() ? why : before.accuracy_rerun_reason + "; " + why;
+  again.steps += before.steps;  // (what the case cost: every run)
+  again.rhs_evaluations += before.rhs_evaluations;
+  again.wall_time_s += before.wall_time_s;
 }
 
 void applyAccuracy(Settings& s, double accuracy) {

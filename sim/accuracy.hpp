@@ -59,26 +59,43 @@ constexpr double kFlatPeakCondition = 1.25;
 constexpr double kFlatPeakAccuracyMin = 1e-6;
 double flatPeakAccuracy(double accuracy, double tPeakCondition);
 // Two peaks of nearly one height. Where P_y has another maximum whose height is within 2 a of the peak's
-// (a = accuracyDelivered(A); CaseMetrics::second_peak_gap < kClosePeaksFactor a: each height within a,
-// their order is not decided at that accuracy) and whose time is more than A t_peak away from it, the peak's time may jump
-// from one to the other: the nose gear with f1 at 0.6 of its own, at 1.5 m/s without lift, has humps at
-// 0.085 s and 0.235 s within 5e-5 of each other, and its run at 1e-2 reported the first (a t_peak error
-// of 64 times the accuracy; every other metric within 0.6 of it). Its case is then run again at
-//   A' = A / f,  f = kClosePeaksFactor A / gap rounded up to a power of 2^(1/4)   (A' >= kFlatPeakAccuracyMin),
-// where the heights' errors no longer reach the gap. Returns A', or 0 where no second run is needed.
+// (a = accuracyDelivered(A') for the run at A'; CaseMetrics::second_peak_gap < kClosePeaksFactor a:
+// each height within a, their order is not decided at that accuracy) and whose time is more than
+// A t_peak away from it (A the accuracy asked for), the peak's time may jump from one to the other: the
+// nose gear with f1 at 0.6 of its own, at 1.5 m/s without lift, has humps at 0.085 s and 0.235 s
+// 0.135 % apart, and its run at 1e-2 saw them within 4e-5 and reported the first (a t_peak error of 64
+// times the accuracy; every other metric within 0.6 of it). Its case is then run again at
+//   A'' = a / f,  f = kClosePeaksFactor a / gap rounded up to a power of 2^(1/4), at most kClosePeaksStep
+//   (A'' >= kFlatPeakAccuracyMin),
+// and again from that run while its own gap does not order the two (nextAccuracy): a measured gap
+// within the error of its heights says little of the true one (4e-5 measured, 1.35e-3 true), so one
+// step to the accuracy it seems to ask for can overpay (1e-2 / 512 there, 6.3 times one run's cost; in
+// a step of at most 32, 1e-2 / 32 orders them, for 4.0 times). Over the sweep (bench/accuracy_sweep), against
+// one step to what the first gap asks for: steps of at most 16 cost 2.0 % more evaluations at 0.1 (a third
+// run where 1/16 fell just short) and 0.6 % less at 1e-2; 32, 0.4 % more and 0.5 % less; unlimited
+// steps (each run checked), 0.4 % more at both; 3e-3 and 1e-3 the same. Returns A'', or 0 where no
+// further run is needed or the floor was run. 'asked' (0: 'ran') is the accuracy asked for, 'ran' the run's.
 constexpr double kClosePeaksFactor = 2;
-double closePeaksAccuracy(double accuracy, double tPeak, double secondPeakGap, double tSecondPeak);
-// The accuracy a case is run again at (the tighter of flatPeakAccuracy and closePeaksAccuracy for its
-// first run's metrics), or 0 for none. runCase, caseGradient and caseHistoryGradient all follow it.
+constexpr double kClosePeaksStep = 32;
+double closePeaksAccuracy(double ran, double tPeak, double secondPeakGap, double tSecondPeak, double asked = 0);
+// The accuracy a case is run again at after its first run (the tighter of flatPeakAccuracy and
+// closePeaksAccuracy for its metrics), or 0 for none.
 double rerunAccuracy(double accuracy, const CaseMetrics& first);
+// The accuracy a case is run at next after a run at 'ran' for the accuracy 'asked': after the first
+// (ran == asked) rerunAccuracy, after a later one the close-peaks rule alone (the flat-peak rule's one
+// run was enough), 0 for none. runCase, caseGradient and caseHistoryGradient all follow it.
+double nextAccuracy(double asked, double ran, const CaseMetrics& run);
 // Why (for people): "flat peak (t_peak condition 3.37 > 1.25)", "two peaks within 0.0051 % (t = 0.08535 s
-// and 0.2345 s)", both, and "; closer than accuracy A' decides: t_peak may be either" where the floor
-// kFlatPeakAccuracyMin cannot separate them. Empty where rerunAccuracy is 0.
+// and 0.2345 s)", or both, for the first run; "at 0.000625 still within 0.096 %" for a later one
+// (ran < asked). Empty where nextAccuracy is 0.
 std::string rerunReason(double accuracy, const CaseMetrics& first);
-// Marks 'again' (the run at rerunAccuracy) as the second run of 'first': its accuracy, A', the reason,
-// and the cost of both runs.
-void markRerun(CaseMetrics& again, const CaseMetrics& first, double accuracy, double rerun);
-// Sets integrator, rtol, atol and max_step of 's' for 'accuracy' (kAccuracyMin <= accuracy <= kAccuracyMax).
+std::string nextReason(double asked, double ran, const CaseMetrics& run);
+// "; closer than any accuracy decides: t_peak may be either" where the last run, at 'ran', still does
+// not order two peaks (the floor kFlatPeakAccuracyMin was run); empty otherwise.
+std::string undecidedPeaks(double asked, double ran, const CaseMetrics& last);
+// Marks 'again' (the run at 'rerun', after 'before' at 'ran' for the accuracy 'asked') as a later run:
+// the accuracy asked for, A', the reasons so far, and the cost of every run.
+void markRerun(CaseMetrics& again, const CaseMetrics& before, double asked, double ran, double rerun);
 void applyAccuracy(Settings& s, double accuracy);
 // The relative accuracy of the metrics that solver settings give, by the same calibration read backwards:
 // 'accuracy' if the settings came from one, dopri5 at rtol r about r, ros34pw2 at rtol r <= kRosRtolMax

@@ -197,9 +197,10 @@ bool historyPass(const Scene& scene, const DropCase& c, const std::vector<Parame
   return true;
 }
 
-// caseHistoryGradient; 'mayRerun' false keeps the scene's settings whatever its peak.
+// caseHistoryGradient of a run at the scene's accuracy for the accuracy 'asked', followed by the runs
+// nextAccuracy asks for; 'asked' 0 keeps the scene's settings whatever its peak.
 HistoryGradient historyGradientOf(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params,
-                                  const std::vector<double>& times, bool rates, int width, bool mayRerun) {
+                                  const std::vector<double>& times, bool rates, int width, double asked) {
   HistoryGradient g;
   g.times = times;
   const size_t ncols = historyColumns(scene).size();
@@ -214,16 +215,15 @@ HistoryGradient historyGradientOf(const Scene& scene, const DropCase& c, const s
                              : -1;
     bool ok = false;
     // A flat peak or two of nearly one height under an accuracy setting: the histories of runCase's
-    // second run (its tighter accuracy), decided on the first pass's metrics.
+    // last run (its tighter accuracy), each run decided on the first pass's metrics of the one before.
     CaseMetrics firstMetrics;
-    CaseMetrics* want = mayRerun && first == 0 && scene.model.settings.accuracy > 0 ? &firstMetrics : nullptr;
+    CaseMetrics* want = asked > 0 && first == 0 && scene.model.settings.accuracy > 0 ? &firstMetrics : nullptr;
     if (w == 1) ok = historyPass<1>(scene, c, params, first, timeSlot, times, g, want);
     else if (w == 2) ok = historyPass<2>(scene, c, params, first, timeSlot, times, g, want);
     else ok = historyPass<kJetWidth>(scene, c, params, first, timeSlot, times, g, want);
     if (!ok) break;
-    const double tighter = want ? rerunAccuracy(scene.model.settings.accuracy, firstMetrics) : 0;
-    if (tighter > 0)
-      return historyGradientOf(withAccuracy(scene, tighter), c, params, times, rates, width, /*mayRerun=*/false);
+    const double next = want ? nextAccuracy(asked, scene.model.settings.accuracy, firstMetrics) : 0;
+    if (next > 0) return historyGradientOf(withAccuracy(scene, next), c, params, times, rates, width, asked);
     first += static_cast<size_t>(w);
   }
   return g;
@@ -233,7 +233,7 @@ HistoryGradient historyGradientOf(const Scene& scene, const DropCase& c, const s
 
 HistoryGradient caseHistoryGradient(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params,
                                     const std::vector<double>& times, bool rates, int width) {
-  return historyGradientOf(scene, c, params, times, rates, width, /*mayRerun=*/true);
+  return historyGradientOf(scene, c, params, times, rates, width, scene.model.settings.accuracy);
 }
 
 const MetricDerivative* CaseGradient::find(const std::string& metric) const {
@@ -264,9 +264,23 @@ void checkGradientParameter(const Parameter& p, const std::string& where) {
 
 namespace {
 
-// caseGradient; 'mayRerun' false keeps the scene's settings whatever its peak.
+// The values of the last of a case's runs, returned through the run before it (at an accuracy for
+// 'asked', which asked for 'next' because of 'why'): the accuracy asked for, the last run's, and every
+// reason, as runCase's.
+void markLaterRun(CaseMetrics& v, const std::string& why, double asked, double next) {
+  v.accuracy = asked;
+  if (!std::isfinite(v.accuracy_rerun)) {  // (v is the last run's own)
+    v.accuracy_rerun = next;
+    v.accuracy_rerun_reason = why + undecidedPeaks(asked, next, v);
+  } else {
+    v.accuracy_rerun_reason = why + "; " + v.accuracy_rerun_reason;
+  }
+}
+
+// caseGradient of a run at the scene's accuracy for the accuracy 'asked' (the first: the scene's own),
+// followed by the runs nextAccuracy asks for; 'asked' 0 keeps the scene's settings whatever its peak.
 CaseGradient gradientOf(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params, int width,
-                        bool mayRerun) {
+                        double asked) {
   CaseGradient g;
   g.caseName = c.name;
   for (const auto& p : params) g.parameters.push_back(p.path);
@@ -289,15 +303,14 @@ CaseGradient gradientOf(const Scene& scene, const DropCase& c, const std::vector
     else ok = runPass<kJetWidth>(scene, c, params, first, g, kinks);
     if (!ok) break;
     if (first == 0) {
-      g.values.accuracy = scene.model.settings.accuracy;
+      const double ran = scene.model.settings.accuracy;
+      g.values.accuracy = ran;
       // A flat peak or two of nearly one height under an accuracy setting: the case's run at the tighter
-      // accuracy (as runCase does).
-      const double tighter = rerunAccuracy(scene.model.settings.accuracy, g.values);
-      if (mayRerun && tighter > 0) {
-        CaseGradient again = gradientOf(withAccuracy(scene, tighter), c, params, width, /*mayRerun=*/false);
-        again.values.accuracy = scene.model.settings.accuracy;
-        again.values.accuracy_rerun = tighter;
-        again.values.accuracy_rerun_reason = rerunReason(scene.model.settings.accuracy, g.values);
+      // accuracy (as runCase does), and again while two close peaks stay unordered.
+      const double next = asked > 0 ? nextAccuracy(asked, ran, g.values) : 0;
+      if (next > 0) {
+        CaseGradient again = gradientOf(withAccuracy(scene, next), c, params, width, asked);
+        markLaterRun(again.values, nextReason(asked, ran, g.values), asked, next);
         return again;
       }
     }
@@ -309,7 +322,7 @@ CaseGradient gradientOf(const Scene& scene, const DropCase& c, const std::vector
 }  // namespace
 
 CaseGradient caseGradient(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params, int width) {
-  return gradientOf(scene, c, params, width, /*mayRerun=*/true);
+  return gradientOf(scene, c, params, width, scene.model.settings.accuracy);
 }
 
 }  // namespace lg

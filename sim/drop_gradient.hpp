@@ -59,8 +59,8 @@ std::string parameterUnit(const Scene& scene, const Parameter& p);
 // parameter (sink_speed, lift_ratio) acts on its own case only; 'duration' has no derivative (an
 // InputError where resolved for gradients: see checkGradientParameter). 'width' parameters per pass
 // (1 .. kJetWidth); the derivatives do not depend on it.
-// Under an accuracy setting a case whose peak is flat is differentiated at the tighter accuracy runCase
-// runs it at (CaseMetrics::accuracy_rerun in 'values').
+// Under an accuracy setting a case whose peak is flat or has a twin is differentiated at the tighter
+// accuracy runCase runs it at last (nextAccuracy; CaseMetrics::accuracy_rerun in 'values').
 CaseGradient caseGradient(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params,
                           int width = kJetWidth);
 
@@ -71,7 +71,7 @@ CaseGradient caseGradient(const Scene& scene, const DropCase& c, const std::vect
 // are those of CaseOptions::outputTimes (strictly increasing in [0, duration]); a row at an event's
 // time is its left limit, and its derivatives are the left side's (the state jumps there). Passes of
 // up to kJetWidth components as in caseGradient, the rates taking one component. Under an accuracy
-// setting a case whose peak is flat gives the histories of runCase's second run (flatPeakAccuracy).
+// setting a case whose peak is flat or has a twin gives the histories of runCase's last run (nextAccuracy).
 struct HistoryGradient {
   bool ok = true;
   std::string message;                          // why the run failed

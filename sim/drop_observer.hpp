@@ -484,20 +484,29 @@ template <class S> class DropObserver {
   // with P' and P'' central differences in time of P_y on the dense output itself (the function whose
   // maximum t* is), places it to the differences' error, smoothly in the design. In a Jet run the same
   // step carries the derivatives dt*/dp = -(dP'/dp) / P''. The difference step dt is 1e-2 of the
-  // integration step (inside it; at least 1e-3 of it). With T the peak's time scale (P'' ~ P / T^2) the
-  // rate's round-off, eps P / dt, moves t* by about eps T^2 / dt, its truncation, P''' dt^2 / 6, by about
-  // dt^2 / (6 T), smoothly: 1e-12 s at the tight tolerances' steps, 1e-7 s at the loosest. A step longer
-  // than ten times the search's tolerance is not taken (its value; its derivatives are): there the
-  // search's point is the better one. (At 1e-3 of the step the derivative part of P' carried the
-  // integration's error over a smaller dt: dt*/dp of the seed gear was 2e-5 off the differences.)
+  // integration step (the stencil t +- 2 dt inside it; at least 1e-3 of it). With T the peak's time
+  // scale (P'' ~ P / T^2) the rate's round-off, eps P / dt, moves t* by about eps T^2 / dt; its
+  // truncation, fourth order (P^(5) dt^4 / 30), by about dt^4 / (30 T^3): below 1e-12 s at the loosest
+  // steps (the second-order difference's dt^2 / (6 T) was 1e-7 s there, more than the search's own
+  // error, so its step had been taken only within ten times the search's tolerance; a double and a Jet
+  // run, whose searches end apart where the values are flat to round-off, then took it in one and not
+  // in the other: t_peak 1.5e-8 .. 1.6e-7 apart on the nose gear at 6.25e-4 and 3e-4). The step is taken
+  // within dt, where the stencil holds the top; a longer one is not (its value; its derivatives are).
+  // (At 1e-3 of the step the derivative part of P' carried the integration's error over a smaller dt:
+  // dt*/dp of the seed gear was 2e-5 off the differences.)
   // 'fromSearch' false: t is a step's start, not the search's point (P_y there is evaluated; the step is
   // taken whatever its size).
   void correctPeakTime(double t, const S& t0, const S& t1, const DenseOutput<S>& d, bool fromSearch = true) {
-    const double h = value(t1) - value(t0), dt = std::max(1e-3 * h, std::min({1e-2 * h, t - value(t0), value(t1) - t}));
+    const double h = value(t1) - value(t0);
+    const double dt = std::max(1e-3 * h, std::min({1e-2 * h, 0.5 * (t - value(t0)), 0.5 * (value(t1) - t)}));
     channelsAt(S(t + dt), d, scratch_);
     const S up = scratch_.Py;
     channelsAt(S(t - dt), d, scratch_);
     const S down = scratch_.Py;
+    channelsAt(S(t + 2 * dt), d, scratch_);
+    const S up2 = scratch_.Py;
+    channelsAt(S(t - 2 * dt), d, scratch_);
+    const S down2 = scratch_.Py;
     S mid;
     if constexpr (kDouble) {
       if (fromSearch) mid = lastRefinedValue_;  // (P_y at t, from the search)
@@ -506,7 +515,7 @@ template <class S> class DropObserver {
       channelsAt(S(t), d, scratch_);
       mid = scratch_.Py;
     }
-    const S rate = (up - down) / S(2 * dt);                                          // P' [N/s]
+    const S rate = (S(8) * (up - down) - (up2 - down2)) / S(12 * dt);                // P' [N/s], fourth order
     const double curvature = (value(up) - 2 * value(mid) + value(down)) / (dt * dt);  // P'' [N/s^2]
     if (!(curvature < 0)) return;
     const S step = rate / S(curvature);
@@ -514,8 +523,7 @@ template <class S> class DropObserver {
     // (an event between the steps), whose time is the event's.
     if (!fromSearch && !(value(step) <= 0 && t - value(step) <= value(t1))) return;
     F_.peakCurvature = curvature;
-    const double searched = 10 * (kSearchRel * std::abs(t) + searchAbs(t1));  // (refine's tolerance)
-    F_.t_peak = !fromSearch || std::abs(value(step)) <= searched ? S(t) - step : S(t) - (step - S(value(step)));
+    F_.t_peak = !fromSearch || std::abs(value(step)) <= dt ? S(t) - step : S(t) - (step - S(value(step)));
   }
 
   // A running maximum of a channel without a rate: from its values at the step's start, middle and

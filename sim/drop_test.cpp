@@ -185,14 +185,20 @@ CaseResult runCase(const Scene& scene, const DropCase& c, const CaseOptions& opt
       throw std::invalid_argument("output time " + shortNumber(t) + " s (row " + std::to_string(k) +
                                   "): the times must increase strictly within [0, duration = " + shortNumber(c.duration) + " s]");
   }
+  // A flat peak, or two of nearly one height: its time needs a tighter accuracy than the other metrics,
+  // and two close peaks may need more than one step to order them (nextAccuracy, sim/accuracy.hpp).
+  const double asked = scene.model.settings.accuracy;
   CaseResult res = runOnce(scene, c, opt);
-  const double tighter = rerunAccuracy(scene.model.settings.accuracy, res.metrics);
-  if (!(tighter > 0) || !res.metrics.ok || (opt.stop && opt.stop())) return res;
-  // A flat peak, or two of nearly one height: its time needs a tighter accuracy than the other metrics
-  // (sim/accuracy.hpp).
-  CaseResult again = runOnce(withAccuracy(scene, tighter), c, opt);
-  markRerun(again.metrics, res.metrics, scene.model.settings.accuracy, tighter);
-  return again;
+  for (double ran = asked, next; res.metrics.ok && !(opt.stop && opt.stop()) &&
+                                 (next = nextAccuracy(asked, ran, res.metrics)) > 0;
+       ran = next) {
+    CaseResult again = runOnce(withAccuracy(scene, next), c, opt);
+    markRerun(again.metrics, res.metrics, asked, ran, next);
+    res = std::move(again);
+  }
+  if (std::isfinite(res.metrics.accuracy_rerun))
+    res.metrics.accuracy_rerun_reason += undecidedPeaks(asked, res.metrics.accuracy_rerun, res.metrics);
+  return res;
 }
 
 std::vector<CaseResult> runCases(const Scene& scene, const std::vector<DropCase>& cases, int threads,

@@ -89,9 +89,10 @@ struct CaseMetrics {
   int stiff_handbacks = 0;             // hand-overs to ros34pw2 that cost more than dopri5 and were handed back
   double accuracy = 0;                 // [-] the accuracy the run's settings were chosen for (0: none; Settings::accuracy)
   double accuracy_rerun = std::numeric_limits<double>::quiet_NaN();  // [-] the tighter accuracy the case was run
-                                       // again at because its peak was flat or had a twin (rerunAccuracy, sim/accuracy.hpp);
-                                       // NaN: it was not. Steps, evaluations and wall time count both runs.
-  std::string accuracy_rerun_reason;   // why it was run again (rerunReason), empty if it was not
+                                       // again at last because its peak was flat or had a twin (nextAccuracy,
+                                       // sim/accuracy.hpp); NaN: it was not. Steps, evaluations and wall time
+                                       // count every run.
+  std::string accuracy_rerun_reason;   // why it was run again (nextReason of each run), empty if it was not
   double wall_time_s = 0;
 
   // Within every declared limit: no bottoming, every stroke margin >= 0, every tyre within delta_max.
@@ -175,8 +176,9 @@ Model<double> caseModel(const Scene& scene, const DropCase& c);
 State<double> caseState(const Scene& scene, const Model<double>& m, const DropCase& c);
 
 // Runs a case. A run whose settings came from an accuracy (Settings::accuracy) and whose peak turns out
-// flatter than the calibration's (flatPeakAccuracy, sim/accuracy.hpp) is run once more at the tighter
-// accuracy that its peak's time needs; the result is that run's (CaseMetrics::accuracy_rerun says so).
+// flatter than the calibration's, or to have a twin of nearly its height (sim/accuracy.hpp), is run
+// again at the tighter accuracy that its peak's time needs (two close peaks: until a run orders them,
+// nextAccuracy); the result is the last run's (CaseMetrics::accuracy_rerun says so).
 CaseResult runCase(const Scene& scene, const DropCase& c, const CaseOptions& opt = {});
 
 // Runs several cases (OpenMP, one case per thread); results identical to a serial run.
