@@ -2,7 +2,8 @@
 // telescopic and main gears, each as shipped and with one parameter changed (the main orifice f1 x 0.6
 // and x 1.6, the gas pressure p01 x 0.5 and x 2, the tyre stiffness K x 0.5 and x 2 where the tyre
 // declares K, the airframe's mass x 0.7, the strut friction mu 0 and 0.15), dropped at 1.5, 2.5 and
-// 3.5 m/s with lift ratios 0 and 1, at accuracies 1e-2, 1e-3 and 1e-4 (or those given), against dopri5 at rtol 1e-10: the
+// 3.5 m/s with lift ratios 0 and 1 (the main gear also at its forward speed of 60 m/s: wheel spin-up and its
+// drag load), at accuracies 1e-2, 1e-3 and 1e-4 (or those given), against dopri5 at rtol 1e-10: the
 // largest relative error of the promised metrics over the accuracy, per run, the worst K of them, the
 // cases run again (a flat peak, two close peaks) and the evaluations. Prints figures; never a test (about
 // 25 s: the references dominate). Each run also shows its energy balance error over the accuracy (energy/A).
@@ -23,8 +24,9 @@ namespace {
 
 struct Gear {
   const char* scene;
-  const char* strut;  // the shock absorber's name
-  const char* tyre;   // the tyre's name, or nullptr where its K is not a scalar
+  const char* strut;         // the shock absorber's name
+  const char* tyre;          // the tyre's name, or nullptr where its K is not a scalar
+  double forwardSpeed = 0;   // [m/s] > 0: each drop also at this forward speed (a tyre with mu_x: spin-up)
 };
 
 struct Variant {
@@ -82,24 +84,34 @@ int main(int argc, char** argv) {
   const std::vector<Gear> gears{{"data/seed_gear.toml", "strut", "tyre"},
                                 {"data/nose_gear.toml", "strut", "tyre"},
                                 {"data/telescopic_gear.toml", "shock", "tyre"},
-                                {"data/main_gear.toml", "strut", nullptr}};
-  std::vector<lg::DropCase> cases;
-  for (double V : {1.5, 2.5, 3.5})
-    for (double L : {0.0, 1.0}) {
-      lg::DropCase c;
-      char name[32];
-      std::snprintf(name, sizeof name, "V%g_L%g", V, L);
-      c.name = name;
-      c.sinkSpeed = V;
-      c.liftRatio = L;
-      cases.push_back(c);
+                                {"data/main_gear.toml", "strut", nullptr, 60.0}};
+  auto casesOf = [](const Gear& g) {
+    std::vector<lg::DropCase> cases;
+    std::vector<double> forward{0.0};
+    if (g.forwardSpeed > 0) forward.push_back(g.forwardSpeed);
+    for (double Vx : forward) {
+      for (double V : {1.5, 2.5, 3.5})
+        for (double L : {0.0, 1.0}) {
+          lg::DropCase c;
+          char name[48];
+          if (Vx > 0) std::snprintf(name, sizeof name, "V%g_L%g_Vx%g", V, L, Vx);
+          else std::snprintf(name, sizeof name, "V%g_L%g", V, L);
+          c.name = name;
+          c.sinkSpeed = V;
+          c.liftRatio = L;
+          c.forwardSpeed = Vx;
+          cases.push_back(c);
+        }
     }
+    return cases;
+  };
   std::vector<Row> rows;
   std::vector<long> evaluations(accuracies.size(), 0);
   std::vector<int> reruns(accuracies.size(), 0), failed(accuracies.size(), 0);
   try {
     for (const Gear& g : gears) {
       const lg::Scene base = lg::loadScene(g.scene);
+      const std::vector<lg::DropCase> cases = casesOf(g);
       for (const Variant& v : variants(base, g)) {
         const lg::Scene sc = lg::applyOverrides(base, v.sets);
         const auto ref = lg::runCases(lg::withSolver(sc, lg::IntegratorKind::DormandPrince, 1e-10), cases, threads);
@@ -117,7 +129,7 @@ int main(int argc, char** argv) {
             const std::pair<double, const char*> all[] = {
                 {e.peakLoad, "peak load"},   {e.tPeak, "t_peak"},         {e.stroke, "stroke"},
                 {e.travel, "h_max"},         {e.tyreDeflection, "tyre"}, {e.efficiency, "efficiency"},
-                {e.strutForce, "P_a,max"}};
+                {e.strutForce, "P_a,max"},   {e.dragPeak, "drag peak"}};
             const auto* w = std::max_element(std::begin(all), std::end(all));
             char rerun[32] = "";
             if (std::isfinite(m.accuracy_rerun)) std::snprintf(rerun, sizeof rerun, "%.3g", m.accuracy_rerun);
@@ -136,11 +148,11 @@ int main(int argc, char** argv) {
   std::stable_sort(rows.begin(), rows.end(), [](const Row& x, const Row& y) { return x.ratio > y.ratio; });
   std::printf("%zu runs; the worst %d (largest metric error over the accuracy):\n", rows.size(),
               std::min<int>(worst, static_cast<int>(rows.size())));
-  std::printf("%8s  %-26s %-11s %-8s %-7s %-10s %-9s %-11s %s\n", "err/A", "scene", "variant", "accuracy", "case",
+  std::printf("%8s  %-26s %-11s %-8s %-12s %-10s %-9s %-11s %s\n", "err/A", "scene", "variant", "accuracy", "case",
               "metric", "rerun at", "evaluations", "energy/A");
   for (int i = 0; i < worst && i < static_cast<int>(rows.size()); ++i) {
     const Row& r = rows[i];
-    std::printf("%8.3f  %-26s %-11s %-8g %-7s %-10s %-9s %-11ld %.3g\n", r.ratio, r.gear.c_str(), r.variant.c_str(),
+    std::printf("%8.3f  %-26s %-11s %-8g %-12s %-10s %-9s %-11ld %.3g\n", r.ratio, r.gear.c_str(), r.variant.c_str(),
                 r.accuracy, r.caseName.c_str(), r.metric.c_str(), r.rerun.empty() ? "-" : r.rerun.c_str(), r.evaluations,
                 r.energy);
   }

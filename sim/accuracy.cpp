@@ -20,7 +20,7 @@ double relErr(double x, double ref) {
 }  // namespace
 
 double MetricErrors::max() const {
-  return std::max({peakLoad, tPeak, stroke, travel, tyreDeflection, efficiency, strutForce});
+  return std::max({peakLoad, tPeak, stroke, travel, tyreDeflection, efficiency, strutForce, dragPeak});
 }
 
 MetricErrors metricErrors(const CaseMetrics& m, const CaseMetrics& r) {
@@ -32,6 +32,7 @@ MetricErrors metricErrors(const CaseMetrics& m, const CaseMetrics& r) {
   e.tyreDeflection = relErr(m.tyre_deflection_max_m, r.tyre_deflection_max_m);
   e.efficiency = relErr(m.efficiency, r.efficiency);
   e.strutForce = relErr(m.strut_force_max_N, r.strut_force_max_N);
+  e.dragPeak = r.forward_speed_mps > 0 ? relErr(m.drag_peak_N, r.drag_peak_N) : 0.0;  // (spin-up only)
   return e;
 }
 

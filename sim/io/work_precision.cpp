@@ -14,13 +14,14 @@ namespace lg {
 void writeWorkPrecisionCsv(const std::vector<WorkPrecisionPoint>& points, const std::string& path) {
   std::ostringstream f;
   f << "case,integrator,tolerance,steps,rhs_evaluations,time_per_drop_s,error_peak_load,error_t_peak,error_stroke,"
-       "error_travel,error_tyre_deflection,error_efficiency,error_strut_force,error_max,ok\n";
+       "error_travel,error_tyre_deflection,error_efficiency,error_strut_force,error_drag_peak,error_max,ok\n";
   char buf[512];
   for (const auto& p : points) {
     const MetricErrors& e = p.errors;
-    std::snprintf(buf, sizeof buf, "%s,%s,%.3g,%ld,%ld,%.6e,%.3e,%.3e,%.3e,%.3e,%.3e,%.3e,%.3e,%.3e,%d\n", p.caseName.c_str(),
-                  p.integrator.c_str(), p.tolerance, p.steps, p.rhsEvaluations, p.timePerDrop, e.peakLoad, e.tPeak,
-                  e.stroke, e.travel, e.tyreDeflection, e.efficiency, e.strutForce, e.max(), p.ok ? 1 : 0);
+    std::snprintf(buf, sizeof buf, "%s,%s,%.3g,%ld,%ld,%.6e,%.3e,%.3e,%.3e,%.3e,%.3e,%.3e,%.3e,%.3e,%.3e,%d\n",
+                  p.caseName.c_str(), p.integrator.c_str(), p.tolerance, p.steps, p.rhsEvaluations, p.timePerDrop,
+                  e.peakLoad, e.tPeak, e.stroke, e.travel, e.tyreDeflection, e.efficiency, e.strutForce, e.dragPeak,
+                  e.max(), p.ok ? 1 : 0);
     f << buf;
   }
   writeFileAtomic(path, f.str());
