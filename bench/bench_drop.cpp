@@ -3,7 +3,8 @@
 // at rtol 1e-10). Prints the data of an accuracy-versus-time plot, the stage profiles of the default
 // setting and of the fastest setting at 0.1 %, and as its last line
 //   target 0.1 %: <time> ms (<integrator> rtol <x>, error <e> %)
-// for the fastest setting at or below 0.1 % peak-load error. Single thread (run it on one core).
+// for the fastest setting at or below 0.1 % peak-load error (the settings close to the fastest timed again in
+// interleaved rounds, the smallest median chosen). Single thread (run it on one core).
 // Usage: bench_drop [SCENE] [--case NAME] [--plot DIR] [--specialist PROGRAM] [--help] [--version]
 //   --plot DIR          DIR/accuracy_vs_time.{dat,gp,png} drawn by gnuplot
 //   --specialist PROG   also runs PROG --case <case> --rtol 1e-3 (the hand-derived reduced model of the seed
@@ -42,6 +43,8 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 constexpr int kPairedRounds = 5;
+constexpr double kCandidateSpread = 1.5;  // settings this close to the fastest single timing are timed again
+constexpr int kSelectRounds = 5;          // in this many interleaved rounds
 
 // Median wall time of one drop over at least 'reps' runs (and at least 0.2 s of runs, for the fast ones).
 double timeCase(const lg::Scene& sc, const lg::DropCase& c, int reps, lg::CaseMetrics& m) {
@@ -158,6 +161,8 @@ int main(int argc, char** argv) {
   std::map<std::string, std::string> curves;  // setting -> "time err" lines
   const Setting* best = nullptr;
   double bestTime = 0, bestErr = 0;
+  std::vector<std::pair<const Setting*, double>> within;  // the settings at or below 0.1 %, their errors [%]
+  std::vector<double> withinTime;                          // and their times [s]
   for (const Setting& s : settings) {
     const lg::Scene sc = configured(base, s);
     lg::CaseMetrics m;
@@ -167,10 +172,41 @@ int main(int argc, char** argv) {
     std::printf("  %-34s %9.0e %8ld %8ld %12.3f %12.2e %12.2e%s\n", s.label.c_str(), s.tol, m.steps, m.rhs_evaluations,
                 1e3 * t, err, maxErr, m.ok ? "" : ("  FAILED: " + m.message).c_str());
     if (m.ok) curves[s.label] += std::to_string(1e3 * t) + " " + std::to_string(std::max(err, 1e-9)) + "\n";
-    if (m.ok && err <= 0.1 && (!best || t < bestTime)) {
-      best = &s;
-      bestTime = t;
-      bestErr = err;
+    if (m.ok && err <= 0.1) {
+      within.emplace_back(&s, err);
+      withinTime.push_back(t);
+    }
+  }
+  // The fastest setting at 0.1 %. One timing per setting is not enough to choose: on a shared machine a
+  // spike of a fifth moved the choice from ros34pw2 rtol 1e-2 (244 evaluations) to rtol 2e-3 (341). Every
+  // setting within kCandidateSpread of the fastest single timing is timed again in kSelectRounds
+  // interleaved rounds (each round runs every candidate once, in a rotated order), and the smallest
+  // median over the rounds wins: its time is that median.
+  if (!within.empty()) {
+    const double fastest = *std::min_element(withinTime.begin(), withinTime.end());
+    std::vector<size_t> cand;
+    for (size_t i = 0; i < within.size(); ++i)
+      if (withinTime[i] <= kCandidateSpread * fastest) cand.push_back(i);
+    std::vector<std::vector<double>> rounds(cand.size());
+    for (int r = 0; r < kSelectRounds && cand.size() > 1; ++r)
+      for (size_t j = 0; j < cand.size(); ++j) {
+        const size_t k = (j + static_cast<size_t>(r)) % cand.size();
+        lg::CaseMetrics m;
+        rounds[k].push_back(timeCase(configured(base, *within[cand[k]].first), drop, 9, m));
+      }
+    if (cand.size() > 1)
+      std::printf("# fastest at 0.1 %%: %zu settings within %.1f times the fastest timing, each timed again in %d "
+                  "interleaved rounds (medians):\n", cand.size(), kCandidateSpread, kSelectRounds);
+    for (size_t j = 0; j < cand.size(); ++j) {
+      const auto& [s, err] = within[cand[j]];
+      const double t = cand.size() > 1 ? median(rounds[j]) : withinTime[cand[j]];
+      if (cand.size() > 1)
+        std::printf("#   %-34s %9.0e %12.3f ms  error %.3f %%\n", s->label.c_str(), s->tol, 1e3 * t, err);
+      if (!best || t < bestTime) {
+        best = s;
+        bestTime = t;
+        bestErr = err;
+      }
     }
   }
   if (!plotDir.empty()) {  // the accuracy-versus-time picture, one curve per setting
