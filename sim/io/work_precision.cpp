@@ -67,10 +67,12 @@ bool writeWorkPrecisionPlots(const Scene& scene, const std::vector<WorkPrecision
     g << "set terminal pngcairo size 1500,500 noenhanced\nset output " << gnuplotQuoted(stem + ".png")
       << "\nset multiplot layout 1,3 title "
       << gnuplotQuoted(scene.name + ", case " + c + ": error against time per drop (one core)") << "\n"
-      << "set logscale xy\nset format y '%g'\nset format x '%g'\nset grid\nset key bottom left\n"
+      << "set logscale xy\nset format y '%g'\nset format x '%g'\nset grid\nset key top right\n"
          "set xlabel 'time per drop [ms]'\n";
     const char* titles[] = {"peak load", "max stroke", "max travel h"};
     for (int col = 0; col < 3; ++col) {
+      // One legend, in the first panel's top right corner (slow and inaccurate: no setting lies there).
+      if (col == 1) g << "unset key\n";
       g << "set ylabel 'relative error of the " << titles[col] << " [%]'\nset title '" << titles[col] << "'\nplot ";
       for (size_t i = 0; i < order.size(); ++i)
         g << (i ? ", " : "") << gnuplotQuoted(stem + ".dat") << " index " << i << " using 1:" << (col + 2)
