@@ -134,6 +134,139 @@ template <class S> void combine(S* out, const S* base, const double* c, const S*
   }
 }
 
+// The stages of one trial step of a Rosenbrock-W method (below), from y_n = w.y0 with W prepared for
+// gamma h: k[1 + i] = U_i. Returns false where an evaluation failed.
+template <class S> bool rosenbrockStages(StepContext<S>& c, const RosenbrockTableau& tab, double h) {
+  const Settings& cfg = c.m.settings;
+  auto& k = c.w.stages;
+  const int ny = c.m.ny();
+  const double gh = tab.gamma * h;
+  double coef[4];
+  const S* vecs[4];
+  bool ok = true;
+  for (int i = 0; i < tab.stages; ++i) {
+    VecX<S>& U = k[1 + i];
+    if (i == 0) {
+      U = k[0];
+    } else {
+      {
+        ScopedStage timer(c.w.timer, kIntegrate, cfg.profile);
+        int terms = 0;
+        for (int j = 0; j < i; ++j)
+          if (tab.A[i][j] != 0) {
+            coef[terms] = tab.A[i][j];
+            vecs[terms++] = k[1 + j].data();
+          }
+        combine(c.w.ytmp.data(), c.w.y0.data(), coef, vecs, terms, ny);
+      }
+      ok = evaluate(c.m, c.w.ytmp, c.s.active, c.s.lambda, c.w, U, RowsFor::Solve) && ok;
+    }
+    ScopedStage timer(c.w.timer, kIntegrate, cfg.profile);
+    int terms = 0;
+    for (int j = 0; j < i; ++j)
+      if (tab.C[i][j] != 0) {
+        coef[terms] = tab.C[i][j] / h;
+        vecs[terms++] = k[1 + j].data();
+      }
+    combine(U.data(), U.data(), coef, vecs, terms, ny);
+    solveW(c, gh, tab.stiffnessInW, U);
+    U *= S(gh);
+  }
+  return ok;
+}
+
+// The trial's end y_n+1 = y_n + sum_i m_i U_i into w.y1, and its error norm (1 = the tolerance): the RMS
+// over the positions and velocities of sum_i e_i U_i scaled by atol + rtol max(|y_n|, |y_n+1|).
+template <class S> double rosenbrockEnd(StepContext<S>& c, const RosenbrockTableau& tab) {
+  ScopedStage timer(c.w.timer, kIntegrate, c.m.settings.profile);
+  auto& k = c.w.stages;
+  const int nErr = c.m.nErr(), ny = c.m.ny();
+  const S* vecs[4];
+  for (int j = 0; j < tab.stages; ++j) vecs[j] = k[1 + j].data();
+  combine(c.w.y1.data(), c.w.y0.data(), tab.m, vecs, tab.stages, ny);
+  // The scaled error of each component in one pass (vectorisable), then their squares summed in order.
+  double* q = c.w.errTerm.data();
+  const auto scaled = [&](int i, double e) {
+    return e / (c.atol + c.rtol * std::max(std::abs(value(c.w.y0[i])), std::abs(value(c.w.y1[i]))));
+  };
+  if (tab.stages == 4) {
+    const S *k1 = vecs[0], *k2 = vecs[1], *k3 = vecs[2], *k4 = vecs[3];
+    const double e1 = tab.e[0], e2 = tab.e[1], e3 = tab.e[2], e4 = tab.e[3];
+    for (int i = 0; i < nErr; ++i)
+      q[i] = scaled(i, (((0.0 + e1 * value(k1[i])) + e2 * value(k2[i])) + e3 * value(k3[i])) + e4 * value(k4[i]));
+  } else {
+    for (int i = 0; i < nErr; ++i) {
+      double e = 0;
+      for (int j = 0; j < tab.stages; ++j) e += tab.e[j] * value(vecs[j][i]);
+      q[i] = scaled(i, e);
+    }
+  }
+  double err = 0;
+  for (int i = 0; i < nErr; ++i) err += q[i] * q[i];
+  return std::sqrt(err / nErr);
+}
+
+// An accepted trial of size h becomes the step: its end stabilised first (kinematics and rows only), so
+// that the closing evaluation (f, multipliers, damping terms, event functions) is the only one even when
+// it projects; the dense output set; a slip that reversed unseen retried at a quarter of h (Retry) or,
+// down to the retry floor, settled; then the events inside the step.
+enum class Accepted { Done, Retry, Failed };
+template <class S> Accepted acceptRosenbrock(StepContext<S>& c, const RosenbrockTableau& tab, double& h, double& hNext,
+                                             RunStatus& st) {
+  auto& k = c.w.stages;
+  c.s.y = c.w.y1;
+  c.s.t = c.s.t + S(h);
+  normalizeQuaternions(c.m, c.s.y);  // (first: the rows below are then those the projection starts from)
+  kinematics(c.m, c.s.y, c.w);
+  constraintRows(c.m, c.w);
+  if (slipReversedUnseen(c) && h > kSlipRetryFloor) {
+    c.s.y = c.w.y0;
+    c.s.t = c.s.t - S(h);
+    h *= 0.25;
+    ++st.rejected;
+    return Accepted::Retry;
+  }
+  bool projected = false;
+  if (!stabilise(c, st, projected, /*normalised=*/true)) {
+    fail(c, st, "projection failed");
+    return Accepted::Failed;
+  }
+  c.w.needDampingResponse = true;  // and after an event, refresh(c) takes it again
+  if (!evaluate(c.m, c.s.y, c.s.active, c.s.lambda, c.w, c.w.ydot) || !allFinite(c.w.ydot)) {
+    failNonFinite(c, st);
+    return Accepted::Failed;
+  }
+  c.dense.t0 = c.s.t - S(h);
+  c.dense.h = h;
+  c.dense.y0 = &c.w.y0;
+  c.dense.y1 = &c.w.y1;
+  k[6] = c.w.ydot;
+  c.dense.f0 = &k[0];
+  c.dense.f1 = &k[6];
+  c.dense.kind = tab.hasDense ? DenseOutput<S>::Rosenbrock : DenseOutput<S>::Hermite;
+  c.dense.closesAtState = true;
+  c.dense.k = &k;
+  c.dense.weights = tab.d;
+  c.dense.nx = c.m.nx();
+  if (slipReversedUnseen(c)) {  // (down to the retry floor)
+    if (!settleUnseenSlips(c, st) || !refresh(c)) {
+      failNonFinite(c, st);
+      return Accepted::Failed;
+    }
+    hNext = std::max(h, 1e-8);
+    return Accepted::Done;
+  }
+  eventFunctions(c.m, c.s, c.s.lambda, c.w, c.w.g1);
+  freeStopRates(c.m, c.s, c.w, c.w.gRate1);
+  bool ended = false;
+  if (!endOnEvent(c, hNext, st, ended)) return Accepted::Failed;
+  if (ended) return Accepted::Done;
+  c.w.g0 = c.w.g1;
+  c.w.gRate0 = c.w.gRate1;
+  forceOutputs(c);  // (stabilised above)
+  return Accepted::Done;
+}
+
 // One step of a linearly implicit Rosenbrock-W method (RosenbrockTableau: ROS2 or ROS34PW2) in the
 // transformed form of Hairer & Wanner (IV.7.25), which needs no Jacobian-vector products:
 //   (I/(gamma h) - J_W) U_i = f(y_n + sum_j A_ij U_j) + sum_j C_ij/h U_j,   i = 1..s
@@ -142,126 +275,29 @@ template <class S> void combine(S* out, const S* base, const double* c, const S*
 // the orifice damping and the regularised friction no longer cap the step. Any J_W keeps the order
 // (W-method). Dense output: the positions by the cubic Hermite between f(y_n) and f(y_n+1), the
 // velocities by the method's continuous extension where the tableau has one (ROS34PW2; ROS2: Hermite).
+// The trial steps: W prepared, the stages, the end and its error, the verdict; then the accepted step.
 template <class S> bool stepRosenbrock(StepContext<S>& c, const RosenbrockTableau& tab, double h, double& hNext, RunStatus& st) {
-  const Settings& cfg = c.m.settings;
   auto& k = c.w.stages;  // k[0] = f(y_n), k[1..s] = U_1..U_s, k[6] = f(y_n+1)
-  const int nErr = c.m.nErr(), ny = c.m.ny();
-  double coef[4];
-  const S* vecs[4];
   k[0] = c.w.ydot;
   c.w.U0 = c.w.U;  // the damping terms at y_n (the last evaluation was at s.y)
   c.w.damping0 = c.w.damping;
   const double expo = 1.0 / (tab.embeddedOrder + 1);
-  c.w.needDampingResponse = false;  // the stages need f only; U is taken at the accepted state below
+  c.w.needDampingResponse = false;  // the stages need f only; U is taken at the accepted state
   for (int attempt = 0; attempt < 60; ++attempt) {
     c.w.y0 = c.s.y;
-    bool ok = true;
-    const double gh = tab.gamma * h;
-    prepareVelocityW(c, gh, tab.stiffnessInW);
-    for (int i = 0; i < tab.stages; ++i) {
-      VecX<S>& U = k[1 + i];
-      if (i == 0) {
-        U = k[0];
-      } else {
-        {
-          ScopedStage timer(c.w.timer, kIntegrate, cfg.profile);
-          int terms = 0;
-          for (int j = 0; j < i; ++j)
-            if (tab.A[i][j] != 0) {
-              coef[terms] = tab.A[i][j];
-              vecs[terms++] = k[1 + j].data();
-            }
-          combine(c.w.ytmp.data(), c.w.y0.data(), coef, vecs, terms, ny);
-        }
-        ok = evaluate(c.m, c.w.ytmp, c.s.active, c.s.lambda, c.w, U, RowsFor::Solve) && ok;
-      }
-      ScopedStage timer(c.w.timer, kIntegrate, cfg.profile);
-      int terms = 0;
-      for (int j = 0; j < i; ++j)
-        if (tab.C[i][j] != 0) {
-          coef[terms] = tab.C[i][j] / h;
-          vecs[terms++] = k[1 + j].data();
-        }
-      combine(U.data(), U.data(), coef, vecs, terms, ny);
-      solveW(c, gh, tab.stiffnessInW, U);
-      U *= S(gh);
-    }
-    double err = 0;
-    {
-      ScopedStage timer(c.w.timer, kIntegrate, cfg.profile);
-      for (int j = 0; j < tab.stages; ++j) vecs[j] = k[1 + j].data();
-      combine(c.w.y1.data(), c.w.y0.data(), tab.m, vecs, tab.stages, ny);
-      // The scaled error of each component in one pass (vectorisable), then their squares summed in order.
-      double* q = c.w.errTerm.data();
-      const auto scaled = [&](int i, double e) {
-        return e / (c.atol + c.rtol * std::max(std::abs(value(c.w.y0[i])), std::abs(value(c.w.y1[i]))));
-      };
-      if (tab.stages == 4) {
-        const S *k1 = vecs[0], *k2 = vecs[1], *k3 = vecs[2], *k4 = vecs[3];
-        const double e1 = tab.e[0], e2 = tab.e[1], e3 = tab.e[2], e4 = tab.e[3];
-        for (int i = 0; i < nErr; ++i)
-          q[i] = scaled(i, (((0.0 + e1 * value(k1[i])) + e2 * value(k2[i])) + e3 * value(k3[i])) + e4 * value(k4[i]));
-      } else {
-        for (int i = 0; i < nErr; ++i) {
-          double e = 0;
-          for (int j = 0; j < tab.stages; ++j) e += tab.e[j] * value(vecs[j][i]);
-          q[i] = scaled(i, e);
-        }
-      }
-      for (int i = 0; i < nErr; ++i) err += q[i] * q[i];
-      err = std::sqrt(err / nErr);
-    }
+    prepareVelocityW(c, tab.gamma * h, tab.stiffnessInW);
+    const bool ok = rosenbrockStages(c, tab, h);
+    const double err = rosenbrockEnd(c, tab);
     const Trial trial = judge(c, ok, err, expo, h, st);
     if (trial == Trial::Fail) return false;
     if (trial == Trial::Retry) continue;
-    hNext = std::min(cfg.maxStep, h * std::min(4.0, std::max(0.2, 0.9 * std::pow(std::max(err, 1e-10), -expo))));
-    // Accept: stabilise the step's end first (kinematics and rows only), so that the closing evaluation
-    // (f, multipliers, damping terms, event functions) is the only one even when it projects.
-    c.s.y = c.w.y1;
-    c.s.t = c.s.t + S(h);
-    normalizeQuaternions(c.m, c.s.y);  // (first: the rows below are then those the projection starts from)
-    kinematics(c.m, c.s.y, c.w);
-    constraintRows(c.m, c.w);
-    if (slipReversedUnseen(c) && h > kSlipRetryFloor) {
-      c.s.y = c.w.y0;
-      c.s.t = c.s.t - S(h);
-      h *= 0.25;
-      ++st.rejected;
-      continue;
+    hNext = std::min(c.m.settings.maxStep,
+                     h * std::min(4.0, std::max(0.2, 0.9 * std::pow(std::max(err, 1e-10), -expo))));
+    switch (acceptRosenbrock(c, tab, h, hNext, st)) {
+      case Accepted::Done: return true;
+      case Accepted::Failed: return false;
+      case Accepted::Retry: continue;
     }
-    bool projected = false;
-    if (!stabilise(c, st, projected, /*normalised=*/true)) {
-      fail(c, st, "projection failed");
-      return false;
-    }
-    c.w.needDampingResponse = true;  // and after an event, refresh(c) takes it again
-    if (!evaluate(c.m, c.s.y, c.s.active, c.s.lambda, c.w, c.w.ydot) || !allFinite(c.w.ydot)) return failNonFinite(c, st);
-    c.dense.t0 = c.s.t - S(h);
-    c.dense.h = h;
-    c.dense.y0 = &c.w.y0;
-    c.dense.y1 = &c.w.y1;
-    k[6] = c.w.ydot;
-    c.dense.f0 = &k[0];
-    c.dense.f1 = &k[6];
-    c.dense.kind = tab.hasDense ? DenseOutput<S>::Rosenbrock : DenseOutput<S>::Hermite;
-    c.dense.closesAtState = true;
-    c.dense.k = &k;
-    c.dense.weights = tab.d;
-    c.dense.nx = c.m.nx();
-    if (slipReversedUnseen(c)) {  // (down to the retry floor)
-      if (!settleUnseenSlips(c, st) || !refresh(c)) return failNonFinite(c, st);
-      hNext = std::max(h, 1e-8);
-      return true;
-    }
-    eventFunctions(c.m, c.s, c.s.lambda, c.w, c.w.g1);
-    freeStopRates(c.m, c.s, c.w, c.w.gRate1);
-    bool ended = false;
-    if (!endOnEvent(c, hNext, st, ended)) return false;
-    if (ended) return true;
-    c.w.g0 = c.w.g1;
-    c.w.gRate0 = c.w.gRate1;
-    forceOutputs(c);  // (stabilised above)
-    return true;
   }
   fail(c, st, "too many rejected steps");
   return false;
