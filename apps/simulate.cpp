@@ -236,12 +236,8 @@ int workPrecision(const Options& o, const lg::Scene& scene, const std::vector<lg
   return lg::cli::kOk;  // a setting that failed is a row of the table (FAILED), not a failure of the command
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{"Drop-test simulator: runs the drop cases of a gear scene"};
-  lg::cli::addVersion(app, "simulate");
-  Options o;
+// The command line's options into o.
+void addOptions(CLI::App& app, Options& o) {
   app.add_option("scene", o.scene, "scene file (TOML)")->required();
   app.add_option("--case", o.cases, "case to run (repeatable; default: every case of the scene)");
   app.add_option("--out", o.outDir, "output directory (default: out)");
@@ -264,29 +260,12 @@ int main(int argc, char** argv) {
   app.add_flag("--work-precision", o.workPrecision,
                "run every integrator over a range of tolerances against the scene's own tight run; write the table "
                "(and with --plots the pictures) of error against time per drop (one core)");
-  if (const int rc = lg::cli::parse(app, argc, argv); rc >= 0) return rc;
+}
 
-  lg::Scene scene;
-  std::vector<lg::DropCase> cases;
-  std::vector<lg::Parameter> gradientParams;
-  try {
-    scene = loadInputs(o, app, cases);
-    gradientParams = gradientParameters(o, scene);
-  } catch (const lg::InputError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return lg::cli::kUsage;
-  }
-  try {
-    lg::prepareOutputDir(o.outDir);
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return lg::cli::kFailed;
-  }
-  const int threads = lg::cli::resolveThreads(o.threads);
-  lg::cli::installInterruptHandler();
-  if (o.workPrecision) return workPrecision(o, scene, cases);
-
-  // Progress on a terminal for runs longer than a second; Ctrl-C stops every case at its next step.
+// Every case in parallel over 'threads' (results in the cases' order), with progress on a terminal for
+// runs longer than a second; Ctrl-C stops every case at its next step.
+std::vector<lg::CaseResult> runCases(const Options& o, const lg::Scene& scene, const std::vector<lg::DropCase>& cases,
+                                     int threads) {
   const bool tty = !o.quiet && isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
   std::atomic<int> done{0};
@@ -316,14 +295,53 @@ int main(int argc, char** argv) {
   }
   if (tty && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > 1.0)
     std::fprintf(stderr, "\r%60s\r", "");
+  return results;
+}
+
+// The exact derivatives of every case's metrics by 'params' (none without them), in parallel.
+Gradients caseGradients(const lg::Scene& scene, const std::vector<lg::DropCase>& cases,
+                        const std::vector<lg::Parameter>& params, int threads) {
   Gradients gradients;
-  if (!gradientParams.empty()) {
-    for (const auto& p : gradientParams) gradients.units.push_back(lg::parameterUnit(scene, p));
-    gradients.cases.resize(cases.size());
+  if (params.empty()) return gradients;
+  for (const auto& p : params) gradients.units.push_back(lg::parameterUnit(scene, p));
+  gradients.cases.resize(cases.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (int i = 0; i < static_cast<int>(cases.size()); ++i)
-      if (!lg::cli::interrupted()) gradients.cases[i] = lg::caseGradient(scene, cases[i], gradientParams);
+  for (int i = 0; i < static_cast<int>(cases.size()); ++i)
+    if (!lg::cli::interrupted()) gradients.cases[i] = lg::caseGradient(scene, cases[i], params);
+  return gradients;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Drop-test simulator: runs the drop cases of a gear scene"};
+  lg::cli::addVersion(app, "simulate");
+  Options o;
+  addOptions(app, o);
+  if (const int rc = lg::cli::parse(app, argc, argv); rc >= 0) return rc;
+
+  lg::Scene scene;
+  std::vector<lg::DropCase> cases;
+  std::vector<lg::Parameter> gradientParams;
+  try {
+    scene = loadInputs(o, app, cases);
+    gradientParams = gradientParameters(o, scene);
+  } catch (const lg::InputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return lg::cli::kUsage;
   }
+  try {
+    lg::prepareOutputDir(o.outDir);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return lg::cli::kFailed;
+  }
+  const int threads = lg::cli::resolveThreads(o.threads);
+  lg::cli::installInterruptHandler();
+  if (o.workPrecision) return workPrecision(o, scene, cases);
+
+  const std::vector<lg::CaseResult> results = runCases(o, scene, cases, threads);
+  const Gradients gradients = caseGradients(scene, cases, gradientParams, threads);
   if (lg::cli::interrupted()) {
     std::cerr << "interrupted: nothing written\n";
     return lg::cli::kInterrupted;
