@@ -427,13 +427,12 @@ std::string bestSceneText(const Study& s, const std::vector<double>& x, const st
   return o.str() + toTomlString(doc);
 }
 
-StudyResult runStudy(const Study& s, const RunOptions& o) {
-  const auto t0 = std::chrono::steady_clock::now();
-  StudyResult res;
-  const fs::path dir(o.outDir);
-  prepareOutputDir(dir.string());
-  const fs::path histPath = dir / "history.csv";
+namespace {
 
+// The optimiser's run with every evaluation logged to history.csv as it finishes (a line that cannot be
+// written stops the study); with o.resume the designs already in the log are not simulated again.
+void optimiseLogged(const Study& s, const RunOptions& o, const fs::path& histPath,
+                    std::chrono::steady_clock::time_point t0, StudyResult& res) {
   EvaluationCache cache;
   if (o.resume) {
     std::string w;
@@ -459,26 +458,19 @@ StudyResult runStudy(const Study& s, const RunOptions& o) {
   };
   res.opt = runOptimizer(p, a, obs, o.resume ? &cache : nullptr);
   if (!hist.close()) throw std::runtime_error(hist.error() + " (the study stopped there)");
-  if (res.opt.history.empty()) {  // interrupted before the baseline finished: no design to report
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    writeFileAtomic((dir / "result.json").string(),
-                    "{\n  \"study\": " + jsonString(s.name) + ",\n  \"feasible\": false,\n  \"evaluations\": 0,\n"
-                    "  \"interrupted\": true,\n  \"nlopt\": {\"reason\": " + jsonString(res.opt.reason) +
-                    "},\n  \"wall_time_s\": " + jsonNumber(wall) + "\n}\n");
-    writeFileAtomic((dir / "report.md").string(), "# Design study: " + s.name + "\n\n" + res.opt.reason + ".\n");
-    return res;
-  }
+}
 
-  // Baseline and best re-simulated on every case of the study (steering cases and checks) with their
-  // time histories, and judged against each case's limits.
+// The baseline and the best design re-simulated on every case of the study (steering cases and checks)
+// with their time histories, into res's case metrics; a design the scene rejects runs no case, and each
+// case then fails with the design's reason.
+void recheckCases(const Study& s, const RunOptions& o, StudyResult& res, std::vector<CaseResult>& baseRuns,
+                  std::vector<CaseResult>& bestRuns) {
   EvaluatorOptions all;
   all.threads = o.threads;
   all.record = true;
   all.checks = true;
-  std::vector<CaseResult> baseRuns, bestRuns;
   const Evaluation e0 = evaluateDesign(s, res.opt.x0, all, &baseRuns);
   const Evaluation e1 = evaluateDesign(s, res.opt.x, all, &bestRuns);
-  // A design the scene rejects runs no case: each case then fails with the design's reason.
   for (auto* runs : {&baseRuns, &bestRuns}) {
     const Evaluation& e = runs == &baseRuns ? e0 : e1;
     if (runs->size() == s.cases.size()) continue;
@@ -496,8 +488,13 @@ StudyResult runStudy(const Study& s, const RunOptions& o) {
       std::abs(e1.objective - res.opt.best.objective) > (res.opt.best.hasGradient ? 1e-9 * std::abs(e1.objective) : 0.0))
     res.warnings.push_back("re-simulating the best design gave objective " + num(e1.objective) + " instead of " +
                            num(res.opt.best.objective));
+}
+
+// Each case of the baseline and the best design judged against its limits; the best design's
+// certification verdict and a warning for every limit it exceeds.
+void judgeCases(const Study& s, StudyResult& res) {
   res.certified = s.certification != nullptr;
-  for (size_t i = 0; i < s.cases.size() && i < bestRuns.size(); ++i) {
+  for (size_t i = 0; i < s.cases.size() && i < res.bestCases.size(); ++i) {
     const std::vector<Limit> limits = reportLimits(s, static_cast<int>(i));
     auto verdict = [&](const CaseMetrics& m) {
       CertCase cc;
@@ -524,6 +521,30 @@ StudyResult runStudy(const Study& s, const RunOptions& o) {
   }
   if (s.certification)
     for (const auto& u : unitItems(*s.certification)) res.certified = res.certified && u.pass;
+}
+
+}  // namespace
+
+// A study: the optimiser's run, logged; then the baseline and the best design re-checked on every case,
+// judged, and written (best.toml, plots, result.json, report.md).
+StudyResult runStudy(const Study& s, const RunOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  StudyResult res;
+  const fs::path dir(o.outDir);
+  prepareOutputDir(dir.string());
+  optimiseLogged(s, o, dir / "history.csv", t0, res);
+  if (res.opt.history.empty()) {  // interrupted before the baseline finished: no design to report
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    writeFileAtomic((dir / "result.json").string(),
+                    "{\n  \"study\": " + jsonString(s.name) + ",\n  \"feasible\": false,\n  \"evaluations\": 0,\n"
+                    "  \"interrupted\": true,\n  \"nlopt\": {\"reason\": " + jsonString(res.opt.reason) +
+                    "},\n  \"wall_time_s\": " + jsonNumber(wall) + "\n}\n");
+    writeFileAtomic((dir / "report.md").string(), "# Design study: " + s.name + "\n\n" + res.opt.reason + ".\n");
+    return res;
+  }
+  std::vector<CaseResult> baseRuns, bestRuns;
+  recheckCases(s, o, res, baseRuns, bestRuns);
+  judgeCases(s, res);
 
   res.bestToml = bestSceneText(s, res.opt.x, dir.string());
   writeFileAtomic((dir / "best.toml").string(), res.bestToml);
