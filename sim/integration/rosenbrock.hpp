@@ -210,7 +210,6 @@ template <class S> double rosenbrockEnd(StepContext<S>& c, const RosenbrockTable
 // that the closing evaluation (f, multipliers, damping terms, event functions) is the only one even when
 // it projects; the dense output set; a slip that reversed unseen retried at a quarter of h (Retry) or,
 // down to the retry floor, settled; then the events inside the step.
-enum class Accepted { Done, Retry, Failed };
 template <class S> Accepted acceptRosenbrock(StepContext<S>& c, const RosenbrockTableau& tab, double& h, double& hNext,
                                              RunStatus& st) {
   auto& k = c.w.stages;

@@ -103,6 +103,9 @@ template <class S> bool afterStep(StepContext<S>& c, RunStatus& st) {
 // non-finite trial is retried at a quarter of the step, one over the tolerance at the size its error
 // suggests (0.9 err^-expo, at least a fifth); a step that underflows fails the run.
 enum class Trial { Accept, Retry, Fail };
+// What became of an accepted trial (a method's accept stage): the step is done, it is tried again
+// smaller (a friction slip that reversed unseen inside it), or the run failed (the reason in its status).
+enum class Accepted { Done, Retry, Failed };
 template <class S> Trial judge(StepContext<S>& c, bool ok, double err, double expo, double& h, RunStatus& st) {
   if (!ok || !allFinite(c.w.y1) || !std::isfinite(err)) {
     if (h < 1e-12) {
