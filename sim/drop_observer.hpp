@@ -191,6 +191,9 @@ template <class S> class DropObserver {
     checkBottom(s);
   }
 
+  // One accepted step [t0, t1] of the run: its channels at the end and the middle, then each group of
+  // metrics on the dense output (the load, the tyres, the struts, the airframe's travel and rebound),
+  // the time-history rows, and the next step's start.
   void onStep(const Model<S>& m, const State<S>& s, Workspace<S>& w, const DenseOutput<S>& d) {
     const double viol = violation(s.active, w);
     // Compression integrals (Simpson on the dense output) over [t0, t1], and refined extrema. The step's
@@ -201,9 +204,22 @@ template <class S> class DropObserver {
     channelsAt(S(0.5) * (t0 + t1), d, mid_);
     ReactionsNeeded lazy(reaction_, false);  // from here only what reads P_a solves for the locks' reactions
     if (rateFromDense_) denseRates(t0, t1, d);
-    const S h = t1 - t0;
-    workPy_ += simpson(prev_.Py * prev_.hdot, mid_.Py * mid_.hdot, end_.Py * end_.hdot, h);
-    // Peak P_y where its rate (the sum of the tyres' P_t') goes from + to -.
+    watchLoad(t0, t1, d);
+    watchTyres(t0, t1, d);
+    watchStruts(t0, t1, d);
+    watchTravel(t0, t1, d);
+    F_.constraint_violation_max = std::max(F_.constraint_violation_max, viol);
+    checkBottom(s);
+    if (recording() && denseRows()) recordDense(m, value(t0), value(t1), s, d);
+    lazy.restore();
+    startNextStep(s, w, d, t1);
+  }
+
+ private:
+  // The peak vertical load P_y where its rate (the sum of the tyres' P_t') goes from + to -, its time
+  // polished, and its humps; the work of P_y along h.
+  void watchLoad(const S& t0, const S& t1, const DenseOutput<S>& d) {
+    workPy_ += simpson(prev_.Py * prev_.hdot, mid_.Py * mid_.hdot, end_.Py * end_.hdot, t1 - t0);
     double tPy = -1;
     const bool newPeak = refine(prev_.PyDot, end_.PyDot, t0, t1, d, [](const Channels& c) { return c.Py; }, F_.peak_load,
                                 &F_.t_peak, end_.Py, t1, &tPy, /*everyPeak=*/true);
@@ -220,6 +236,9 @@ template <class S> class DropObserver {
       correctPeakTime(value(t0), t0, t1, d, /*fromSearch=*/false);
     }
     if (value(prev_.PyDot) > 0 && value(end_.PyDot) < 0) F_.loadHumps.push_back({lastRefinedTime_, lastRefinedValue_});
+  }
+  // Each tyre's largest deflection, load and drag, and the gear's drag peak.
+  void watchTyres(const S& t0, const S& t1, const DenseOutput<S>& d) {
     for (size_t k = 0; k < F_.tyres.size(); ++k) {
       // P_t grows with delta: both peak where delta' goes from + to -.
       auto& T = F_.tyres[k];
@@ -236,9 +255,13 @@ template <class S> class DropObserver {
     if (drag_)
       refineWithoutRate(prev_.Px, mid_.Px, end_.Px, t0, t1, d, [](const Channels& c) { return c.Px; }, F_.drag_peak, false,
                         &F_.t_drag_peak);
+  }
+  // Each strut's largest stroke (and its work up to there), its peak force P_a, and the regularised
+  // friction's stick watch.
+  void watchStruts(const S& t0, const S& t1, const DenseOutput<S>& d) {
     for (size_t k = 0; k < F_.struts.size(); ++k) {
       auto& St = F_.struts[k];
-      workPa_[k] += simpson(prev_.Pa[k] * prev_.sdot[k], mid_.Pa[k] * mid_.sdot[k], end_.Pa[k] * end_.sdot[k], h);
+      workPa_[k] += simpson(prev_.Pa[k] * prev_.sdot[k], mid_.Pa[k] * mid_.sdot[k], end_.Pa[k] * end_.sdot[k], t1 - t0);
       double tS = -1;
       if (refine(prev_.sdot[k], end_.sdot[k], t0, t1, d, [k](const Channels& c) { return c.s[k]; }, St.stroke_max, nullptr,
                  end_.s[k], t1, &tS)) {
@@ -253,6 +276,11 @@ template <class S> class DropObserver {
         F_.tStrutForceMax = value(t1);
       if (regularised_[k]) watchStick(k, value(t1), value(end_.sdot[k]));
     }
+  }
+  // The airframe's largest travel h (and the gear's work up to there), the end of the compression, and
+  // the rebound: the largest upward velocity -h' after it, refined on the dense output where the step's
+  // midpoint is above both ends.
+  void watchTravel(const S& t0, const S& t1, const DenseOutput<S>& d) {
     double tH = -1;
     if (value(prev_.hdot) > 0 && value(end_.hdot) <= 0) F_.compression_ended = true;
     if (refine(prev_.hdot, end_.hdot, t0, t1, d, [](const Channels& c) { return c.h; }, F_.h_max, nullptr, end_.h, t1, &tH)) {
@@ -261,18 +289,16 @@ template <class S> class DropObserver {
       F_.tHMax = tHmax_;
       reboundV_ = S(0);  // a new maximum of h: the rebound starts again from there
     }
-    // Rebound: the largest upward airframe velocity -h' after the compression; refined on the dense
-    // output where the step's midpoint is above both ends.
     if (value(t1) > tHmax_) {
       const S ta = maxByValue(t0, S(tHmax_));
       const bool whole = value(ta) == value(t0);
       refineWithoutRate(whole ? S(-prev_.hdot) : S(-end_.hdot), S(-mid_.hdot), S(-end_.hdot), ta, t1, d,
                         [](const Channels& c) { return S(-c.hdot); }, reboundV_, !whole);
     }
-    F_.constraint_violation_max = std::max(F_.constraint_violation_max, viol);
-    checkBottom(s);
-    if (recording() && denseRows()) recordDense(m, value(t0), value(t1), s, d);
-    lazy.restore();
+  }
+  // The next step's start: the channels after any jump at t1, a kink maximum of P_y at an event, the
+  // row at the step's end (one row per step), and the mode the next step runs in.
+  void startNextStep(const State<S>& s, const Workspace<S>& w, const DenseOutput<S>& d, const S& t1) {
     const Workspace<S>& endW = stepEnd(s, w, d, after_);  // after any jump at t1: the next step's start
     // Without an event at t1 the next step starts where this one ends, with the same slope f(s.y) (up to
     // the step's projection): the rates at this step's end are also those at the next one's start.
@@ -293,6 +319,7 @@ template <class S> class DropObserver {
     ++steps_;
   }
 
+ public:
   // Rows of the time histories in the scalar S (with ceres::Jet: their derivatives), at opt.outputTimes or
   // every opt.outputInterval: each row holds the columns of historyColumns(scene). 'timeSlot' >= 0 (Jet
   // only) seeds the row's time in that derivative component, which then holds each column's rate in
