@@ -73,9 +73,19 @@ template <class S> struct Model {
   int ny() const { return nx() + nv() + nDissipation; }
   int nErr() const { return nx() + nv() + nErrorChannels; }  // the error-controlled part of y
 
+  // The layout of everything the engine indexes, after the parser (or cast) filled the model: the
+  // bodies' mobility, the constraint and friction-lock rows, the force elements' channels.
   void finalize() {
     rowInfo.clear();
     rowOffset.clear();
+    const std::vector<char> eliminated = restrictMobility();
+    layoutRows(eliminated);
+    layoutForceChannels();
+  }
+
+ private:
+  // Which constraints are eliminated into a body's mobility (1 each) rather than enforced by rows.
+  std::vector<char> restrictMobility() {
     // A prismatic joint between a body and the ground lets the body translate along a fixed world axis
     // only, a fixed joint not move at all: the body's inverse mass restricted to that subspace
     // (BodyKin::invMassTimes) is the exact Schur complement of the joint's rows, which are then not
@@ -110,6 +120,10 @@ template <class S> struct Model {
           mobility[b] = kPlanar;
           mobilityAxis[b] = settings.planeNormal.template cast<S>();
         }
+    return eliminated;
+  }
+  // The rows: each constraint's (none for an eliminated one: rowOffset -1), then the friction locks'.
+  void layoutRows(const std::vector<char>& eliminated) {
     for (int c = 0; c < static_cast<int>(constraints.size()); ++c) {
       if (eliminated[c]) {
         rowOffset.push_back(-1);
@@ -140,6 +154,9 @@ template <class S> struct Model {
         bf->jointRow = bf->joint >= 0 ? rowOffset[bf->joint] : -1;
         bearingForces.push_back(f);
       }
+  }
+  // The force elements' dissipation, event, output and damping channels.
+  void layoutForceChannels() {
     dissipationOffset.clear();
     eventOffset.clear();
     outputOffset.clear();
@@ -175,6 +192,7 @@ template <class S> struct Model {
     }
   }
 
+ public:
   template <class T> Model<T> cast() const {
     Model<T> m;
     for (const auto& b : bodies) m.bodies.push_back(b.template cast<T>());
