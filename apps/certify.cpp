@@ -14,6 +14,59 @@
 #include "sim/io/plots.hpp"
 #include "sim/io/toml_reader.hpp"
 
+namespace {
+
+namespace fs = std::filesystem;
+
+// The scene's certification matrix: its [certification] table, with 'basis' (if given) in place of the
+// table's own; throws lg::InputError where the scene has none.
+std::shared_ptr<const lg::Certification> matrixOf(const lg::Scene& scene, const std::string& scenePath,
+                                                  const std::string& basis) {
+  const toml::table* t = scene.doc["certification"].as_table();
+  if (!t)
+    throw lg::InputError(scenePath, 0, "certification",
+                         "the scene has no [certification] table: add one with basis, landing_mass, limit_load_factor, "
+                         "... (README, \"Certification\")");
+  return basis.empty() ? scene.certification
+                       : std::make_shared<const lg::Certification>(lg::parseCertification(*t, scenePath, scene, basis));
+}
+
+// One picture per case (the matrix's, then the checks') with its limits, in DIR/plots; returns the
+// report's pictures section. Throws where a file cannot be written.
+std::string drawPictures(const lg::Scene& scene, const lg::Certification& spec, const lg::Compliance& c,
+                         const std::vector<lg::CaseResult>& runs, const std::string& outDir) {
+  std::string pictures;
+  const fs::path pd = fs::path(outDir) / "plots";
+  lg::prepareOutputDir(pd.string());
+  const bool gp = lg::haveGnuplot();
+  if (!gp) pictures = "gnuplot was not found: the data and scripts are in `plots/` (run `gnuplot <case>.gp` there).\n";
+  std::vector<const lg::CaseVerdict*> all;
+  for (const auto& v : c.cases) all.push_back(&v);
+  for (const auto& v : c.checks) all.push_back(&v);
+  for (size_t i = 0; i < all.size(); ++i) {
+    const lg::CaseVerdict& v = *all[i];
+    lg::CaseFigure f;
+    char title[256];
+    std::snprintf(title, sizeof title, "%s: %s (%s), V = %.3f m/s, L = %.3g, W = %.0f kg: %s", scene.name.c_str(),
+                  v.name.c_str(), v.role == "check" ? "check" : lg::certKindName(v.cert.kind), v.cert.sinkSpeed,
+                  v.cert.liftRatio, v.cert.mass, v.pass ? "PASS" : "FAIL");
+    f.title = title;
+    f.run = &runs[i];
+    f.limits = lg::compliancePlotLimits(scene, spec, v);
+    f.drawElementsOf(scene);
+    const std::string stem = lg::safeFileStem(v.name);
+    std::string why;
+    if (lg::drawCaseFigure(f, pd.string(), stem, gp, &why)) {
+      if (gp) pictures += "![" + v.name + "](plots/" + stem + ".png)\n\n";
+    } else if (gp) {
+      pictures += "Picture of " + v.name + " missing: " + why + "\n\n";
+    }
+  }
+  return pictures;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"Certification drop tests: runs the scene's [certification] matrix and writes a compliance report"};
   lg::cli::addVersion(app, "certify");
@@ -32,20 +85,13 @@ int main(int argc, char** argv) {
   std::shared_ptr<const lg::Certification> spec;
   try {
     scene = lg::loadScene(scenePath);
-    const toml::table* t = scene.doc["certification"].as_table();
-    if (!t)
-      throw lg::InputError(scenePath, 0, "certification",
-                           "the scene has no [certification] table: add one with basis, landing_mass, limit_load_factor, "
-                           "... (README, \"Certification\")");
-    spec = basis.empty() ? scene.certification
-                         : std::make_shared<const lg::Certification>(lg::parseCertification(*t, scenePath, scene, basis));
+    spec = matrixOf(scene, scenePath, basis);
   } catch (const lg::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return lg::cli::kUsage;
   }
   threads = lg::cli::resolveThreads(threads);
   // The output directory exists and takes files before the first case runs.
-  namespace fs = std::filesystem;
   try {
     lg::prepareOutputDir(outDir);
   } catch (const std::exception& e) {
@@ -63,37 +109,8 @@ int main(int argc, char** argv) {
     return lg::cli::kInterrupted;
   }
   try {
-    std::string pictures;
-    if (plots) {
-      const fs::path pd = fs::path(outDir) / "plots";
-      lg::prepareOutputDir(pd.string());
-      const bool gp = lg::haveGnuplot();
-      if (!gp) pictures = "gnuplot was not found: the data and scripts are in `plots/` (run `gnuplot <case>.gp` there).\n";
-      std::vector<const lg::CaseVerdict*> all;
-      for (const auto& v : c.cases) all.push_back(&v);
-      for (const auto& v : c.checks) all.push_back(&v);
-      for (size_t i = 0; i < all.size(); ++i) {
-        const lg::CaseVerdict& v = *all[i];
-        lg::CaseFigure f;
-        char title[256];
-        std::snprintf(title, sizeof title, "%s: %s (%s), V = %.3f m/s, L = %.3g, W = %.0f kg: %s", scene.name.c_str(),
-                      v.name.c_str(), v.role == "check" ? "check" : lg::certKindName(v.cert.kind), v.cert.sinkSpeed,
-                      v.cert.liftRatio, v.cert.mass, v.pass ? "PASS" : "FAIL");
-        f.title = title;
-        f.run = &runs[i];
-        f.limits = lg::compliancePlotLimits(scene, *spec, v);
-        f.drawElementsOf(scene);
-        const std::string stem = lg::safeFileStem(v.name);
-        std::string why;
-        if (lg::drawCaseFigure(f, pd.string(), stem, gp, &why)) {
-          if (gp) pictures += "![" + v.name + "](plots/" + stem + ".png)\n\n";
-        } else if (gp) {
-          pictures += "Picture of " + v.name + " missing: " + why + "\n\n";
-        }
-      }
-    } else {
-      pictures = "Not drawn: run `certify` with `--plots`.\n";
-    }
+    const std::string pictures =
+        plots ? drawPictures(scene, *spec, c, runs, outDir) : "Not drawn: run `certify` with `--plots`.\n";
     lg::writeFileAtomic((fs::path(outDir) / "compliance.json").string(), lg::complianceJson(c));
     lg::writeFileAtomic((fs::path(outDir) / "compliance.md").string(), lg::complianceMarkdown(c, pictures));
   } catch (const std::exception& e) {
