@@ -161,8 +161,11 @@ int main(int argc, char** argv) {
   std::map<std::string, std::string> curves;  // setting -> "time err" lines
   const Setting* best = nullptr;
   double bestTime = 0, bestErr = 0;
-  std::vector<std::pair<const Setting*, double>> within;  // the settings at or below 0.1 %, their errors [%]
-  std::vector<double> withinTime;                          // and their times [s]
+  struct Within {
+    const Setting* setting;
+    double err, time;  // [%], [s] (its first timing)
+  };
+  std::vector<Within> within;  // the settings at or below 0.1 %
   for (const Setting& s : settings) {
     const lg::Scene sc = configured(base, s);
     lg::CaseMetrics m;
@@ -172,10 +175,7 @@ int main(int argc, char** argv) {
     std::printf("  %-34s %9.0e %8ld %8ld %12.3f %12.2e %12.2e%s\n", s.label.c_str(), s.tol, m.steps, m.rhs_evaluations,
                 1e3 * t, err, maxErr, m.ok ? "" : ("  FAILED: " + m.message).c_str());
     if (m.ok) curves[s.label] += std::to_string(1e3 * t) + " " + std::to_string(std::max(err, 1e-9)) + "\n";
-    if (m.ok && err <= 0.1) {
-      within.emplace_back(&s, err);
-      withinTime.push_back(t);
-    }
+    if (m.ok && err <= 0.1) within.push_back({&s, err, t});
   }
   // The fastest setting at 0.1 %. One timing per setting is not enough to choose: on a shared machine a
   // spike of a fifth moved the choice from ros34pw2 rtol 1e-2 (244 evaluations) to rtol 2e-3 (341). Every
@@ -183,29 +183,31 @@ int main(int argc, char** argv) {
   // interleaved rounds (each round runs every candidate once, in a rotated order), and the smallest
   // median over the rounds wins: its time is that median.
   if (!within.empty()) {
-    const double fastest = *std::min_element(withinTime.begin(), withinTime.end());
-    std::vector<size_t> cand;
-    for (size_t i = 0; i < within.size(); ++i)
-      if (withinTime[i] <= kCandidateSpread * fastest) cand.push_back(i);
+    double fastest = within[0].time;
+    for (const Within& w : within) fastest = std::min(fastest, w.time);
+    std::vector<Within> cand;
+    for (const Within& w : within)
+      if (w.time <= kCandidateSpread * fastest) cand.push_back(w);
     std::vector<std::vector<double>> rounds(cand.size());
     for (int r = 0; r < kSelectRounds && cand.size() > 1; ++r)
       for (size_t j = 0; j < cand.size(); ++j) {
         const size_t k = (j + static_cast<size_t>(r)) % cand.size();
         lg::CaseMetrics m;
-        rounds[k].push_back(timeCase(configured(base, *within[cand[k]].first), drop, 9, m));
+        rounds[k].push_back(timeCase(configured(base, *cand[k].setting), drop, 9, m));
       }
     if (cand.size() > 1)
       std::printf("# fastest at 0.1 %%: %zu settings within %.1f times the fastest timing, each timed again in %d "
                   "interleaved rounds (medians):\n", cand.size(), kCandidateSpread, kSelectRounds);
     for (size_t j = 0; j < cand.size(); ++j) {
-      const auto& [s, err] = within[cand[j]];
-      const double t = cand.size() > 1 ? median(rounds[j]) : withinTime[cand[j]];
+      const Within& w = cand[j];
+      const double t = cand.size() > 1 ? median(rounds[j]) : w.time;
       if (cand.size() > 1)
-        std::printf("#   %-34s %9.0e %12.3f ms  error %.3f %%\n", s->label.c_str(), s->tol, 1e3 * t, err);
+        std::printf("#   %-34s %9.0e %12.3f ms  error %.3f %%\n", w.setting->label.c_str(), w.setting->tol, 1e3 * t,
+                    w.err);
       if (!best || t < bestTime) {
-        best = s;
+        best = w.setting;
         bestTime = t;
-        bestErr = err;
+        bestErr = w.err;
       }
     }
   }

@@ -76,21 +76,8 @@ template <class S> Accepted acceptDopri(StepContext<S>& c, double& h, double& hN
   c.s.t = c.s.t + S(h);
   eventFunctions(c.m, c.s, c.s.lambda, c.w, c.w.g1);
   freeStopRates(c.m, c.s, c.w, c.w.gRate1);
-  if (slipReversedUnseen(c)) {  // (rows are at y1: the last stage is there)
-    if (h > kSlipRetryFloor) {
-      c.s.y = c.w.y0;
-      c.s.t = c.s.t - S(h);
-      h *= 0.25;
-      ++st.rejected;
-      return Accepted::Retry;
-    }
-    if (!settleUnseenSlips(c, st) || !refresh(c)) {
-      failNonFinite(c, st);
-      return Accepted::Failed;
-    }
-    hNext = std::max(h, 1e-8);
-    return Accepted::Done;
-  }
+  if (slipReversedUnseen(c))  // (rows are at y1: the last stage is there)
+    return h > kSlipRetryFloor ? retryUnseenSlip(c, h, st) : settleAtRetryFloor(c, h, hNext, st);
   bool ended = false;
   if (!endOnEvent(c, hNext, st, ended)) return Accepted::Failed;
   if (ended) return Accepted::Done;

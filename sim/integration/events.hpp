@@ -211,6 +211,27 @@ template <class S> bool settleUnseenSlips(StepContext<S>& c, RunStatus& st) {
   return c.m.settings.stabilization == Stabilization::None || project(c.m, c.s, c.w);
 }
 
+// The accepted step's end (size h) where a slip reversed unseen inside it: undone, to be tried again at
+// a quarter of its size (above the retry floor).
+template <class S> Accepted retryUnseenSlip(StepContext<S>& c, double& h, RunStatus& st) {
+  c.s.y = c.w.y0;
+  c.s.t = c.s.t - S(h);
+  h *= 0.25;
+  ++st.rejected;
+  return Accepted::Retry;
+}
+
+// Down to the retry floor: the slip is over; the locks are settled at the step's end and f and g
+// refreshed there; the next step is at least h.
+template <class S> Accepted settleAtRetryFloor(StepContext<S>& c, double h, double& hNext, RunStatus& st) {
+  if (!settleUnseenSlips(c, st) || !refresh(c)) {
+    failNonFinite(c, st);
+    return Accepted::Failed;
+  }
+  hNext = std::max(h, 1e-8);
+  return Accepted::Done;
+}
+
 // The events of an accepted adaptive step: if one triggered, the step ends on it ('ended'); the dense
 // output (valid on [t0, t0 + h]) still describes [t0, t_event] for the observer, the state may have
 // jumped (impact, projection), so f and g are refreshed. 'hNext' holds the error controller's proposal

@@ -218,13 +218,7 @@ template <class S> Accepted acceptRosenbrock(StepContext<S>& c, const Rosenbrock
   normalizeQuaternions(c.m, c.s.y);  // (first: the rows below are then those the projection starts from)
   kinematics(c.m, c.s.y, c.w);
   constraintRows(c.m, c.w);
-  if (slipReversedUnseen(c) && h > kSlipRetryFloor) {
-    c.s.y = c.w.y0;
-    c.s.t = c.s.t - S(h);
-    h *= 0.25;
-    ++st.rejected;
-    return Accepted::Retry;
-  }
+  if (slipReversedUnseen(c) && h > kSlipRetryFloor) return retryUnseenSlip(c, h, st);
   bool projected = false;
   if (!stabilise(c, st, projected, /*normalised=*/true)) {
     fail(c, st, "projection failed");
@@ -247,14 +241,7 @@ template <class S> Accepted acceptRosenbrock(StepContext<S>& c, const Rosenbrock
   c.dense.k = &k;
   c.dense.weights = tab.d;
   c.dense.nx = c.m.nx();
-  if (slipReversedUnseen(c)) {  // (down to the retry floor)
-    if (!settleUnseenSlips(c, st) || !refresh(c)) {
-      failNonFinite(c, st);
-      return Accepted::Failed;
-    }
-    hNext = std::max(h, 1e-8);
-    return Accepted::Done;
-  }
+  if (slipReversedUnseen(c)) return settleAtRetryFloor(c, h, hNext, st);  // (down to the retry floor)
   eventFunctions(c.m, c.s, c.s.lambda, c.w, c.w.g1);
   freeStopRates(c.m, c.s, c.w, c.w.gRate1);
   bool ended = false;
