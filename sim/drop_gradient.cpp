@@ -85,12 +85,18 @@ template <class S> double metricTime(const CaseFigures<S>& F, const std::string&
 }
 
 // The model and state of a pass: parameters [first, first + N) seeded in components 0 .. N-1.
+// An envelope quantity is seeded at the case's own point (its corner's value, or the scene's).
 template <class J>
 void seedPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>& params, size_t first, Model<J>& m,
-              J& V, J& L) {
+              J& V, J& L, EnvelopePoint<J>& at) {
   constexpr int N = J::DIMENSION;
+  at = casePoint(scene, c).template cast<J>();
   for (size_t j = first; j < std::min(params.size(), first + N); ++j) {
     const Parameter& p = params[j];
+    if (p.kind == Parameter::Kind::Envelope) {
+      setEnvelopeValue(at, p.key, J(envelopeValue(casePoint(scene, c), p.key), static_cast<int>(j - first)));
+      continue;
+    }
     const double x = parameterValue(scene, p);
     const J seeded(x, static_cast<int>(j - first));
     if (p.kind != Parameter::Kind::Case) setModelParameter(m, p, seeded);
@@ -104,8 +110,9 @@ bool runPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>
   using J = ceres::Jet<double, N>;
   Model<J> m = scene.model.template cast<J>();
   J V(c.sinkSpeed), L(c.liftRatio);
-  seedPass(scene, c, params, first, m, V, L);
-  applyCase(scene, m, c, L);
+  EnvelopePoint<J> at;
+  seedPass(scene, c, params, first, m, V, L, at);
+  applyCase(scene, m, c, L, &at);
   State<J> s = caseState(scene, m, V);
   Workspace<J> w(m);
   bool drag = false;  // a tyre with a longitudinal force: the peak drag is a figure of the run
@@ -159,8 +166,9 @@ bool historyPass(const Scene& scene, const DropCase& c, const std::vector<Parame
   using J = ceres::Jet<double, N>;
   Model<J> m = scene.model.template cast<J>();
   J V(c.sinkSpeed), L(c.liftRatio);
-  seedPass(scene, c, params, first, m, V, L);
-  applyCase(scene, m, c, L);
+  EnvelopePoint<J> at;
+  seedPass(scene, c, params, first, m, V, L, at);
+  applyCase(scene, m, c, L, &at);
   State<J> s = caseState(scene, m, V);
   Workspace<J> w(m);
   CaseOptions opt;

@@ -207,6 +207,8 @@ std::vector<CaseResult> runCases(const Scene& scene, const std::vector<DropCase>
   // scene's "limit" and the matrix's limit case, say) run once; their results are copied, renamed.
   auto key = [&](const DropCase& c) {
     std::vector<double> k{c.sinkSpeed, c.liftRatio, c.duration, c.forwardSpeed};
+    const EnvelopePoint<double>& p = casePoint(scene, c);
+    k.insert(k.end(), {p.temperature, p.charge, p.gasVolume, p.oilLevel, p.orifice, p.tyreStiffness});
     for (const auto& b : scene.model.bodies) {
       const auto it = c.masses.find(b.name);
       k.push_back(it == c.masses.end() ? b.mass : it->second);

@@ -140,7 +140,11 @@ double caseMass(const Scene& scene, const DropCase& c);
 // Applies a case to a model of the scene (any scalar): the case's masses, the lift L G g on the lift
 // elements with G the total mass (L and the masses may carry derivatives), and the forward speed V_x
 // under the tyres with a longitudinal force.
-template <class S> void applyCase(const Scene& scene, Model<S>& m, const DropCase& c, const S& liftRatio) {
+// The envelope's point (sim/envelope.hpp) is the case's corner, or the scene's point; 'at' (optional)
+// replaces it with one that may carry derivatives (an envelope quantity as a parameter).
+template <class S>
+void applyCase(const Scene& scene, Model<S>& m, const DropCase& c, const S& liftRatio, const EnvelopePoint<S>* at = nullptr) {
+  if (scene.envelope.declared) applyEnvelope(scene.envelope, m, at ? *at : casePoint(scene, c).template cast<S>());
   for (const auto& [name, mass] : c.masses) m.bodies[m.bodyIndex(name)].mass = S(mass);
   for (int ti : scene.roles.tyres) {
     auto& t = std::get<Tyre<S>>(m.forces[ti].type);

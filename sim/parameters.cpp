@@ -17,6 +17,17 @@ Parameter resolveParameter(const Scene& scene, const std::string& path, const st
   p.key = path.substr(dot + 1);
   const Model<double>& m = scene.model;
   auto fail = [&](const std::string& rule) -> Parameter { throw InputError(where, 0, path, rule); };
+  if (element == "envelope") {
+    if (!scene.envelope.declared)
+      return fail("the scene has no [envelope] table: declare one (its service temperature at least) to move its quantities");
+    if (!isEnvelopePointKey(p.key)) {
+      std::string keys;
+      for (const auto& k : envelopePointKeys()) keys += (keys.empty() ? "" : ", ") + std::string(k.key);
+      return fail("the envelope has no quantity '" + p.key + "' (its: " + keys + ")");
+    }
+    p.kind = Parameter::Kind::Envelope;
+    return p;
+  }
   if (const int b = m.bodyIndex(element); b >= 0) {
     if (p.key != "mass") return fail("body '" + element + "' has no numeric parameter '" + p.key + "' (its one: mass)");
     p.kind = Parameter::Kind::BodyMass;
@@ -73,6 +84,8 @@ std::string unitOfKey(const std::string& key) {
       {"k_rx", "N m/rad"}, {"k_ry", "N m/rad"}, {"k_rz", "N m/rad"},
       {"c_rx", "N m s/rad"}, {"c_ry", "N m s/rad"}, {"c_rz", "N m s/rad"},
   };
+  for (const auto& k : envelopePointKeys())
+    if (key == k.key) return k.unit;
   const auto open = key.find('[');  // a table's sample: the table's unit
   const auto it = units.find(open == std::string::npos ? key : key.substr(0, open));
   return it == units.end() ? "?" : it->second;
@@ -91,6 +104,7 @@ double parameterValue(const Scene& scene, const Parameter& p) {
       const DropCase& c = scene.cases[p.index];
       return p.key == "sink_speed" ? c.sinkSpeed : p.key == "lift_ratio" ? c.liftRatio : c.duration;
     }
+    case Parameter::Kind::Envelope: return envelopeValue(scene.envelope.point, p.key);
   }
   return 0;
 }
@@ -98,6 +112,10 @@ double parameterValue(const Scene& scene, const Parameter& p) {
 std::optional<std::string> applyParameters(Scene& scene, const std::vector<Parameter>& ps, const std::vector<double>& x) {
   for (size_t i = 0; i < ps.size(); ++i) {
     const Parameter& p = ps[i];
+    if (p.kind == Parameter::Kind::Envelope) {
+      setEnvelopeValue(scene.envelope.point, p.key, x[i]);
+      continue;
+    }
     if (p.kind != Parameter::Kind::Case) {
       setModelParameter(scene.model, p, x[i]);
       continue;
@@ -106,6 +124,7 @@ std::optional<std::string> applyParameters(Scene& scene, const std::vector<Param
     (p.key == "sink_speed" ? c.sinkSpeed : p.key == "lift_ratio" ? c.liftRatio : c.duration) = x[i];
   }
   if (const auto problem = checkScene(scene)) return describe(scene, *problem);
+  if (const auto why = envelopeProblem(scene)) return "envelope: " + *why;
   return std::nullopt;
 }
 

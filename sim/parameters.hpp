@@ -13,15 +13,17 @@
 namespace lg {
 
 struct Parameter {
-  enum class Kind { BodyMass, StopLength, Force, Case };
+  enum class Kind { BodyMass, StopLength, Force, Case, Envelope };
   std::string path;   // as written: "strut.f1"
   Kind kind = Kind::Force;
   int index = -1;     // the body, the constraint (a stop), the force element, or the scene's case
+                      // (an envelope quantity "envelope.<key>": the scene's point, sim/envelope.hpp)
   std::string key;    // the scene key: "f1", "mass", "min_distance", "sink_speed"
 };
 
 // Resolves a path against a scene: the element is a body, stop, force element or case named in it
-// (searched in that order), the key one of its numeric scalars. Throws InputError(where, 0, path, rule).
+// (searched in that order), the key one of its numeric scalars; or "envelope.<key>", a quantity of the
+// point of the scene's [envelope] (envelopePointKeys(): temperature_C, charge, gas_volume, ...). Throws InputError(where, 0, path, rule).
 Parameter resolveParameter(const Scene& scene, const std::string& path, const std::string& where = "");
 
 // The SI unit of a parameter by its scene key ("f1" and "f1_table[3]" -> "m^2", "mass" -> "kg", "-" for a
@@ -41,6 +43,7 @@ template <class S> void setModelParameter(Model<S>& m, const Parameter& p, const
       *std::visit([&](auto& e) -> S* { return e.parameter(p.key); }, m.forces[p.index].type) = v;
       break;
     case Parameter::Kind::Case: break;
+    case Parameter::Kind::Envelope: break;  // (applyCase applies the point)
   }
 }
 

@@ -215,6 +215,19 @@ class Checker {
 
 std::optional<SceneProblem> checkScene(Scene& scene) { return Checker(scene).run(); }
 
+std::optional<std::string> envelopeProblem(const Scene& scene) {
+  const Envelope& env = scene.envelope;
+  if (!env.declared) return std::nullopt;
+  std::vector<double> limits(scene.model.forces.size(), std::numeric_limits<double>::quiet_NaN());
+  for (size_t k = 0; k < scene.roles.struts.size() && k < scene.roles.strokeLimits.size(); ++k)
+    limits[static_cast<size_t>(scene.roles.struts[k])] = scene.roles.strokeLimits[k];
+  std::vector<EnvelopeCorner> points = env.corners();
+  if (!(env.point == env.nominal())) points.push_back({"the scene's point", env.point});
+  for (const auto& c : points)
+    if (auto why = envelopePointProblem(env, scene.model, limits, c)) return why;
+  return std::nullopt;
+}
+
 std::string describe(const Scene& scene, const SceneProblem& p) {
   std::string element = p.array + "[" + std::to_string(p.index) + "]";
   const Model<double>& m = scene.model;

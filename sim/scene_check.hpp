@@ -26,6 +26,11 @@ struct SceneProblem {
 // touchdown, and drop cases with a sink speed > 0. Returns the first problem, if any.
 std::optional<SceneProblem> checkScene(Scene& scene);
 
+// Why the scene's [envelope] cannot run: its point or a corner at which a strut's gas volume is gone
+// before its bottoming stop (it would lock) or its pre-charge is not above the atmosphere's; nothing
+// where it can (or without an envelope). A design that moves the strut is checked again with it.
+std::optional<std::string> envelopeProblem(const Scene& scene);
+
 // "strut.Omega0: gas volume ..." for a problem: the element's name and key, as design paths read.
 std::string describe(const Scene& scene, const SceneProblem& p);
 

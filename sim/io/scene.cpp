@@ -39,11 +39,11 @@ namespace {
 using detail::SceneBuilder;
 
 void checkTopLevelKeys(const toml::table& doc, const std::string& file) {
-  const std::set<std::string> top{"scene", "solver", "body", "joint", "stop", "force", "case", "certification"};
+  const std::set<std::string> top{"scene", "solver", "body", "joint", "stop", "force", "case", "certification", "envelope"};
   for (const auto& [k, v] : doc)
     if (!top.count(std::string(k.str())))
       throw InputError(file, static_cast<int>(v.source().begin.line), std::string(k.str()),
-                       "unknown top-level key (allowed: scene, solver, body, joint, stop, force, case, certification)");
+                       "unknown top-level key (allowed: scene, solver, body, joint, stop, force, case, certification, envelope)");
 }
 
 // The joints' rows must be independent at touchdown: a joint whose row is a combination of earlier
@@ -175,6 +175,8 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   b.readCases();
   // The rules, then the matrix, which needs each strut's S_max.
   checkPhysics(sc, doc, file);
+  // [envelope]: the servicing and temperature envelope (sim/envelope.hpp), checked at every corner.
+  if (const toml::table* t = tableOf(doc, "envelope", file)) sc.envelope = parseEnvelope(*t, file, sc);
   // [certification]: the drop-test matrix of the rules (sim/certification.hpp).
   if (const toml::table* t = tableOf(doc, "certification", file))
     sc.certification = std::make_shared<const Certification>(parseCertification(*t, file, sc));

@@ -13,6 +13,7 @@
 #include <toml++/toml.h>
 
 #include "sim/core/state.hpp"
+#include "sim/envelope.hpp"
 
 namespace lg {
 
@@ -47,6 +48,9 @@ struct DropCase {
   double duration = 0.8;   // [s]
   double forwardSpeed = 0; // [m/s] V_x: the ground moves aft at V_x under the tyres that declare mu_x
   std::map<std::string, double> masses;  // [kg] body name -> mass, overriding the scene for this case
+  // The point of the scene's [envelope] the case runs at (a corner of certify or a robust study); none:
+  // the scene's own point (Envelope::point).
+  std::optional<EnvelopeCorner> corner;
 };
 
 // What a scene declares for the drop-test reports.
@@ -71,7 +75,13 @@ struct Scene {
   double gravity = 9.80665;  // [m/s^2] |g|
   Vec3<double> up{0, 1, 0};  // -g / |g|
   std::shared_ptr<const Certification> certification;  // the [certification] table, if declared
+  Envelope envelope;         // the [envelope] table (sim/envelope.hpp); declared = false without one
 };
+
+// The envelope point a case of the scene runs at: its corner's, else the scene's own.
+inline const EnvelopePoint<double>& casePoint(const Scene& scene, const DropCase& c) {
+  return c.corner ? c.corner->at : scene.envelope.point;
+}
 
 // The integrators by their scene-file names ("dopri5", "ros34pw2", "ros2", "rk4", "euler"); false if
 // the name is none of them. integratorNames() lists them for messages.
@@ -84,6 +94,10 @@ Scene loadScene(const std::string& path);
 Scene parseScene(const std::string& text, const std::string& file, const std::string& baseDir = ".");
 // Builds a scene from an already parsed document (used by design studies after editing 'doc').
 Scene buildScene(const toml::table& doc, const std::string& file, const std::string& baseDir = ".");
+// Parses and validates an [envelope] table for 'scene' (its struts, tyres and S_max known): every key's
+// rule, and the nominal point, the scene's point and every corner run (no strut locks: envelopeProblem,
+// sim/scene_check.hpp). Throws InputError naming file, line and key (sim/io/scene_envelope.cpp).
+Envelope parseEnvelope(const toml::table& t, const std::string& file, const Scene& scene);
 
 // Design-parameter paths "<element>.<key>" (e.g. "strut.f1", "tyre.K", "airframe.mass"): the element
 // is a body, joint, stop or force element named in the scene, or "case.<name>" for a drop case.

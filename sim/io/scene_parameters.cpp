@@ -12,6 +12,7 @@ namespace lg {
 
 namespace {
 toml::table* findElement(toml::table& doc, const std::string& name) {
+  if (name == "envelope") return doc["envelope"].as_table();  // the [envelope] table's point
   for (const char* arr : {"body", "joint", "stop", "force", "case"}) {
     toml::array* a = doc[arr].as_array();
     if (!a) continue;
@@ -65,13 +66,31 @@ toml::node* parameterNode(toml::table& doc, const std::string& path, const std::
 }
 }  // namespace
 
+namespace {
+// "envelope.<key>" of the [envelope] table: a key of its point may be absent (its default: nominal).
+bool envelopeDefault(const toml::table& doc, const std::string& path, double& v) {
+  if (path.rfind("envelope.", 0) != 0) return false;
+  const std::string key = path.substr(9);
+  const toml::table* t = doc["envelope"].as_table();
+  if (!t) return false;
+  if (!isEnvelopePointKey(key) || t->contains(key)) return false;
+  v = key == "temperature_C" ? (*t)["service_temperature_C"].value<double>().value_or(15.0) : 0.0;
+  return true;
+}
+}  // namespace
+
 double getParameter(const toml::table& doc, const std::string& path, const std::string& where) {
+  if (double v; envelopeDefault(doc, path, v)) return v;
   const toml::node* n = parameterNode(const_cast<toml::table&>(doc), path, where);
   if (auto v = n->value<double>()) return *v;
   throw InputError(where, 0, path, "'" + path + "' is not a number in the scene");
 }
 
 void setParameter(toml::table& doc, const std::string& path, double value, const std::string& where) {
+  if (double v; envelopeDefault(doc, path, v)) {
+    doc["envelope"].as_table()->insert_or_assign(path.substr(9), value);
+    return;
+  }
   (void)getParameter(doc, path, where);
   std::string element, key;
   splitPath(path, element, key, where);
