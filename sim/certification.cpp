@@ -259,30 +259,94 @@ std::vector<UnitItem> unitItems(const Certification& c) {
   return out;
 }
 
+std::vector<WorstCorner> worstCorners(const std::vector<CaseVerdict>& at, const std::vector<EnvelopeCorner>& corners) {
+  std::vector<WorstCorner> out;
+  if (at.empty()) return out;
+  for (size_t l = 0; l < at.front().limits.size(); ++l) {
+    WorstCorner w;
+    w.limit = at.front().limits[l].limit;
+    w.pass = true;
+    bool first = true;
+    for (size_t k = 0; k < at.size(); ++k) {
+      const LimitResult& r = at[k].limits[l];
+      const double margin = !at[k].metrics.ok ? std::nan("") : r.limit.upper ? r.limit.bound - r.value : r.value - r.limit.bound;
+      w.pass = w.pass && r.pass;
+      // The least margin; a failed run is the worst of all (the first one found).
+      const bool worse = first || (std::isnan(margin) && !std::isnan(w.margin)) || (!std::isnan(w.margin) && margin < w.margin);
+      if (worse) {
+        w.corner = corners[k].name;
+        w.value = r.value;
+        w.margin = margin;
+        first = false;
+      }
+    }
+    out.push_back(w);
+  }
+  return out;
+}
+
 Compliance assessCompliance(const Scene& scene, const Certification& c, int threads, const CaseOptions& opt,
-                            std::vector<CaseResult>* runs) {
+                            std::vector<CaseResult>* runs, bool envelope) {
   Compliance out;
   out.scene = scene.file;
   out.spec = &c;
   out.unit = unitItems(c);
+  std::vector<DropCase> base;
+  for (const auto& cc : c.cases) base.push_back(certDropCase(scene, c, cc));
+  for (const auto& sc : scene.cases) base.push_back(sc);
+  const bool over = envelope && scene.envelope.declared;
+  if (over) {
+    out.envelope = &scene.envelope;
+    out.corners = scene.envelope.corners();
+  }
+  // The runs: every case at every point (point-major: the nominal point's block first).
   std::vector<DropCase> cases;
-  for (const auto& cc : c.cases) cases.push_back(certDropCase(scene, c, cc));
-  for (const auto& sc : scene.cases) cases.push_back(sc);
+  const size_t points = over ? out.corners.size() : 1;
+  for (size_t k = 0; k < points; ++k)
+    for (DropCase d : base) {
+      if (over) {
+        d.corner = out.corners[k];
+        if (k > 0) d.name += "@" + out.corners[k].name;
+      }
+      cases.push_back(d);
+    }
   std::vector<CaseResult> res = runCases(scene, cases, threads, opt);
-  for (size_t i = 0; i < c.cases.size(); ++i)
-    out.cases.push_back(assessCase("certification", c.cases[i], res[i].metrics, caseLimits(c, c.cases[i], scene)));
+  out.drops = static_cast<long>(res.size());
+  for (const auto& r : res) out.rhsEvaluations += r.metrics.rhs_evaluations;
+  const size_t nm = c.cases.size(), ns = scene.cases.size();
   const std::vector<Limit> checks = checkLimits(&c, scene);
-  for (size_t i = 0; i < scene.cases.size(); ++i) {
-    const DropCase& d = scene.cases[i];
+  auto verdictOf = [&](size_t k, size_t i) {
+    CaseMetrics m = res[k * base.size() + i].metrics;
+    m.name = base[i].name;
+    if (i < nm) return assessCase("certification", c.cases[i], m, caseLimits(c, c.cases[i], scene));
+    const DropCase& d = scene.cases[i - nm];
     CertCase cc = makeCase(d.name, CertKind::Limit, d.sinkSpeed, d.liftRatio, caseMass(scene, d), d.duration,
                            "the scene's own case (a check)");
-    out.checks.push_back(assessCase("check", cc, res[c.cases.size() + i].metrics, checks));
-  }
+    return assessCase("check", cc, m, checks);
+  };
+  for (size_t i = 0; i < nm; ++i) out.cases.push_back(verdictOf(0, i));
+  for (size_t i = 0; i < ns; ++i) out.checks.push_back(verdictOf(0, nm + i));
   out.pass = true;
   for (const auto& u : out.unit) out.pass = out.pass && u.pass;
   for (const auto& v : out.cases) out.pass = out.pass && v.pass;
+  out.nominalPass = out.pass;
   out.checksPass = true;
   for (const auto& v : out.checks) out.checksPass = out.checksPass && v.pass;
+  if (over) {
+    for (size_t i = 0; i < nm + ns; ++i) {
+      EnvelopeVerdict ev;
+      ev.name = base[i].name;
+      ev.role = i < nm ? "certification" : "check";
+      for (size_t k = 0; k < points; ++k) ev.at.push_back(verdictOf(k, i));
+      ev.worst = worstCorners(ev.at, out.corners);
+      for (const auto& v : ev.at) ev.failing += v.pass ? 0 : 1;
+      ev.pass = ev.failing == 0;
+      if (i < nm) out.pass = out.pass && ev.pass;
+      else out.checksPass = out.checksPass && ev.pass;
+      (i < nm ? out.envelopeCases : out.envelopeChecks).push_back(std::move(ev));
+    }
+  }
+  res.resize(base.size());  // the nominal point's
   if (runs) *runs = std::move(res);
   return out;
 }

@@ -128,14 +128,42 @@ struct UnitItem {
   std::string rule;
 };
 
+// The worst point of the envelope for one limit of a case: the least margin over the points.
+struct WorstCorner {
+  Limit limit;
+  std::string corner;       // its name
+  double value = 0;         // [metric's unit] there
+  double margin = 0;        // bound - value (an upper limit) or value - bound; < 0 breaks it; NaN: a run failed
+  bool pass = false;        // the limit holds at every point
+};
+
+// One case over the envelope: its verdict at every point (Compliance::corners order, nominal first).
+struct EnvelopeVerdict {
+  std::string name;
+  std::string role;                 // "certification" or "check"
+  std::vector<CaseVerdict> at;      // per point
+  std::vector<WorstCorner> worst;   // per limit of the case
+  int failing = 0;                  // points at which it fails
+  bool pass = false;                // it passes at every point
+};
+// The worst corner of each limit of a case's verdicts at the points (same limits at each).
+std::vector<WorstCorner> worstCorners(const std::vector<CaseVerdict>& at, const std::vector<EnvelopeCorner>& corners);
+
 struct Compliance {
   std::string scene;
   const Certification* spec = nullptr;
   std::vector<UnitItem> unit;
-  std::vector<CaseVerdict> cases;   // the matrix
+  std::vector<CaseVerdict> cases;   // the matrix (at the nominal point where an envelope is run)
   std::vector<CaseVerdict> checks;  // the scene's own cases
-  bool pass = false;                // every matrix case and unit item passes
+  bool pass = false;                // every matrix case and unit item passes (at every point of the envelope)
   bool checksPass = false;          // every check case stays within its limits (reported, not the verdict)
+  // Over the scene's [envelope] (assessCompliance with 'envelope'): every case at every point.
+  const Envelope* envelope = nullptr;         // null: the scene's point only
+  std::vector<EnvelopeCorner> corners;        // the nominal point, then the corners
+  std::vector<EnvelopeVerdict> envelopeCases, envelopeChecks;
+  bool nominalPass = false;                   // every matrix case passes at the nominal point
+  long drops = 0;                             // runs of the engine (cases x points; reruns of --accuracy not counted)
+  long rhsEvaluations = 0;                    // their right-hand-side evaluations, all together
 };
 
 // The unit items of a certification.
@@ -143,7 +171,10 @@ std::vector<UnitItem> unitItems(const Certification& c);
 
 // Runs the matrix and the scene's own cases (as checks) and judges them. 'runs' (optional) receives
 // the case results in the order matrix cases, then checks.
+// With 'envelope' and a scene that declares one, every case runs at every point of its envelope (the
+// nominal point, then the corners; cases x points in parallel, the same bits for any thread count) and
+// passes only where it passes at all of them; 'runs' then holds the nominal point's.
 Compliance assessCompliance(const Scene& scene, const Certification& c, int threads, const CaseOptions& opt = {},
-                            std::vector<CaseResult>* runs = nullptr);
+                            std::vector<CaseResult>* runs = nullptr, bool envelope = false);
 
 }  // namespace lg

@@ -7,6 +7,7 @@
 
 #include "sim/io/json.hpp"
 #include "sim/io/plots.hpp"
+#include "sim/metrics.hpp"
 
 namespace lg {
 namespace {
@@ -98,6 +99,139 @@ std::string row(const CaseVerdict& v, const Certification* c) {
   return o.str();
 }
 
+std::string cornerJson(const EnvelopeCorner& c) {
+  std::ostringstream o;
+  o << "{\"name\": " << jsonString(c.name) << ", \"temperature_C\": " << jsonNumber(c.at.temperature - kZeroCelsius)
+    << ", \"charge\": " << jsonNumber(c.at.charge) << ", \"gas_volume\": " << jsonNumber(c.at.gasVolume)
+    << ", \"oil_level_m3\": " << jsonNumber(c.at.oilLevel) << ", \"orifice\": " << jsonNumber(c.at.orifice)
+    << ", \"tyre_stiffness\": " << jsonNumber(c.at.tyreStiffness) << "}";
+  return o.str();
+}
+
+std::string worstJson(const WorstCorner& w) {
+  const MetricInfo* info = findMetric(w.limit.metric);
+  std::ostringstream o;
+  o << "{\"metric\": " << jsonString(w.limit.metric) << ", \"relation\": " << jsonString(w.limit.upper ? "<=" : ">=")
+    << ", \"limit\": " << jsonNumber(w.limit.bound) << ", \"unit\": " << jsonString(info ? info->unit : "")
+    << ", \"worst_corner\": " << jsonString(w.corner) << ", \"value\": " << jsonNumber(w.value)
+    << ", \"margin\": " << jsonNumber(w.margin) << ", \"pass\": " << jsonBool(w.pass) << ", \"rule\": "
+    << jsonString(w.limit.rule) << "}";
+  return o.str();
+}
+
+std::string envelopeVerdictJson(const EnvelopeVerdict& ev, const std::vector<EnvelopeCorner>& corners) {
+  std::ostringstream o;
+  o << "{\"name\": " << jsonString(ev.name) << ", \"role\": " << jsonString(ev.role) << ", \"pass\": " << jsonBool(ev.pass)
+    << ", \"failing_points\": " << ev.failing << ",\n        \"worst\": [";
+  for (size_t i = 0; i < ev.worst.size(); ++i) o << (i ? ",\n          " : "") << worstJson(ev.worst[i]);
+  o << "],\n        \"points\": [";
+  for (size_t k = 0; k < ev.at.size(); ++k) {
+    const CaseVerdict& v = ev.at[k];
+    const CaseMetrics& m = v.metrics;
+    o << (k ? ",\n          " : "") << "{\"corner\": " << jsonString(corners[k].name) << ", \"ok\": " << jsonBool(m.ok)
+      << ", \"peak_load_N\": " << jsonNumber(m.peak_load_N) << ", \"load_factor\": " << jsonNumber(m.load_factor)
+      << ", \"stroke_max_m\": " << jsonNumber(m.stroke_max_m) << ", \"stroke_margin_m\": " << jsonNumber(m.stroke_margin_m)
+      << ", \"tyre_deflection_max_m\": " << jsonNumber(m.tyre_deflection_max_m) << ", \"pass\": " << jsonBool(v.pass)
+      << ", \"reasons\": [";
+    for (size_t i = 0; i < v.reasons.size(); ++i) o << (i ? ", " : "") << jsonString(v.reasons[i]);
+    o << "]}";
+  }
+  o << "]}";
+  return o.str();
+}
+
+std::string envelopeJson(const Compliance& c) {
+  const Envelope& e = *c.envelope;
+  std::ostringstream o;
+  o << "  \"envelope\": {\"service_temperature_C\": " << jsonNumber(e.serviceTemperature - kZeroCelsius)
+    << ", \"landing_temperature_C\": "
+    << (e.temperatureRange ? "[" + jsonNumber(e.cold - kZeroCelsius) + ", " + jsonNumber(e.hot - kZeroCelsius) + "]"
+                           : std::string("null"))
+    << ", \"charge_tolerance\": " << jsonNumber(e.chargeTolerance) << ", \"gas_volume_tolerance\": "
+    << jsonNumber(e.gasVolumeTolerance) << ", \"oil_level_tolerance_m3\": " << jsonNumber(e.oilLevelTolerance)
+    << ", \"orifice_tolerance\": " << jsonNumber(e.orificeTolerance) << ", \"tyre_stiffness_tolerance\": "
+    << jsonNumber(e.tyreStiffnessTolerance) << ", \"oil_expansion_per_K\": " << jsonNumber(e.oilExpansion)
+    << ", \"oil_volume_m3\": " << jsonNumber(e.oilVolume) << ",\n    \"nominal_pass\": " << jsonBool(c.nominalPass)
+    << ", \"pass\": " << jsonBool(c.pass) << ", \"drops\": " << c.drops << ", \"rhs_evaluations\": " << c.rhsEvaluations
+    << ",\n    \"corners\": [";
+  for (size_t k = 0; k < c.corners.size(); ++k) o << (k ? ",\n      " : "") << cornerJson(c.corners[k]);
+  o << "],\n    \"cases\": [";
+  for (size_t i = 0; i < c.envelopeCases.size(); ++i)
+    o << (i ? ",\n      " : "\n      ") << envelopeVerdictJson(c.envelopeCases[i], c.corners);
+  o << "],\n    \"checks\": [";
+  for (size_t i = 0; i < c.envelopeChecks.size(); ++i)
+    o << (i ? ",\n      " : "\n      ") << envelopeVerdictJson(c.envelopeChecks[i], c.corners);
+  o << "]},\n";
+  return o.str();
+}
+
+// The margin of a worst corner in its unit, for people ("0.0004 m", "0.02").
+std::string marginText(const WorstCorner& w) {
+  if (std::isnan(w.margin)) return "run failed";
+  const MetricInfo* info = findMetric(w.limit.metric);
+  const std::string unit = info && std::string(info->unit) != "-" ? std::string(" ") + info->unit : "";
+  return sig(w.margin, 4) + unit;
+}
+
+std::string envelopeMarkdown(const Compliance& c) {
+  const Envelope& e = *c.envelope;
+  std::ostringstream o;
+  o << "\n## Servicing and temperature envelope\n\n";
+  o << "Every case ran at the nominal point and at each of the " << c.corners.size() - 1
+    << (e.declaredCorners.empty() ? " corners of the envelope (the full factorial of its extremes)" : " corners the scene declares")
+    << ": " << c.drops << " drops, " << c.rhsEvaluations << " right-hand-side evaluations. The envelope (`[envelope]`):\n\n";
+  for (const auto& f : e.factors()) o << "- " << f << "\n";
+  o << "\nThe gas is a fixed mass charged at the service temperature with the strut extended: p01(T) = p01 (1 + charge) "
+       "T / T_s (V_s / V_T), with V_s = Omega0 (1 + gas_volume) - oil_level and V_T = V_s less the oil's thermal expansion; "
+       "orifice areas scale by (1 + orifice), tyre stiffness by (1 + tyre_stiffness).\n\n";
+  o << "**Verdict over the envelope: " << (c.pass ? "PASS" : "FAIL") << "** (at the nominal point: "
+    << (c.nominalPass ? "PASS" : "FAIL") << ")\n\n";
+  o << "### Worst corner per limit\n\n| case | limit | worst corner | value | limit | margin | verdict |\n"
+       "|---|---|---|---|---|---|---|\n";
+  auto worstRows = [&](const std::vector<EnvelopeVerdict>& list) {
+    for (const auto& ev : list)
+      for (const auto& w : ev.worst)
+        o << "| " << ev.name << " | " << w.limit.rule << " | " << w.corner << " | " << sig(w.value, 5) << " | "
+          << (w.limit.upper ? "<= " : ">= ") << sig(w.limit.bound, 5) << " | " << marginText(w) << " | "
+          << (w.pass ? "PASS" : "**FAIL**") << " |\n";
+  };
+  worstRows(c.envelopeCases);
+  o << "\n### Every point\n\n";
+  auto pointTable = [&](const EnvelopeVerdict& ev) {
+    o << "**" << ev.name << "** (" << (ev.role == "check" ? "check" : "certification") << "): "
+      << (ev.pass ? "PASS at every point" : "**FAIL at " + std::to_string(ev.failing) + " of " + std::to_string(ev.at.size()) + " points**")
+      << "\n\n| point | P_y,max [kN] | n_g | stroke [m] | stroke margin [m] | tyre [m] | verdict |\n"
+         "|---|---|---|---|---|---|---|\n";
+    for (size_t k = 0; k < ev.at.size(); ++k) {
+      const CaseVerdict& v = ev.at[k];
+      const CaseMetrics& m = v.metrics;
+      o << "| " << c.corners[k].name << " | " << fixed(m.peak_load_N / 1e3, 2) << " | " << fixed(m.load_factor, 3) << " | "
+        << fixed(m.stroke_max_m, 4) << " | " << fixed(m.stroke_margin_m, 4) << " | " << fixed(m.tyre_deflection_max_m, 4)
+        << " | ";
+      if (v.pass) o << "PASS";
+      else {
+        o << "**FAIL**: ";
+        for (size_t i = 0; i < v.reasons.size(); ++i) o << (i ? "; " : "") << v.reasons[i];
+      }
+      o << " |\n";
+    }
+    o << "\n";
+  };
+  for (const auto& ev : c.envelopeCases) pointTable(ev);
+  if (!c.envelopeChecks.empty()) {
+    o << "The scene's own cases over the envelope (checks, not the verdict): ";
+    bool all = true;
+    for (const auto& ev : c.envelopeChecks) all = all && ev.pass;
+    if (all) o << "within their limits at every point.\n";
+    else {
+      o << "**some exceed a limit**:\n\n| case | limit | worst corner | value | limit | margin | verdict |\n"
+           "|---|---|---|---|---|---|---|\n";
+      worstRows(c.envelopeChecks);
+    }
+  }
+  return o.str();
+}
+
 const char* kTableHead =
     "| case | kind | V [m/s] | L | W [kg] | E to absorb [kJ] | absorbed [kJ] | n_g | n | stroke / limit [m] | "
     "tyre / limit [m] | eta | verdict |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
@@ -125,7 +259,9 @@ std::string complianceJson(const Compliance& c) {
       << ", \"relation\": \">=\", \"limit\": " << jsonNumber(u.bound) << ", \"pass\": " << jsonBool(u.pass)
       << ", \"rule\": " << jsonString(u.rule) << "}";
   }
-  o << "],\n  \"cases\": [\n";
+  o << "],\n";
+  if (c.envelope) o << envelopeJson(c);
+  o << "  \"cases\": [\n";
   for (size_t i = 0; i < c.cases.size(); ++i) o << "    " << verdictJson(c.cases[i]) << (i + 1 < c.cases.size() ? ",\n" : "\n");
   o << "  ],\n  \"checks\": [\n";
   for (size_t i = 0; i < c.checks.size(); ++i) o << "    " << verdictJson(c.checks[i]) << (i + 1 < c.checks.size() ? ",\n" : "\n");
@@ -158,7 +294,8 @@ std::string complianceMarkdown(const Compliance& c, const std::string& pictures)
        "compression\n\n";
   o << "**Verdict: " << (c.pass ? "PASS" : "FAIL") << "**";
   if (!c.pass) o << " (" << failed << " item" << (failed == 1 ? "" : "s") << " fail)";
-  o << "\n\n## Certification cases\n\n" << kTableHead;
+  if (c.envelope) o << " over the servicing and temperature envelope (" << c.corners.size() << " points: below)";
+  o << "\n\n## Certification cases" << (c.envelope ? " at the nominal point" : "") << "\n\n" << kTableHead;
   for (const auto& v : c.cases) o << row(v, &s);
   o << "\nRules: ";
   for (size_t i = 0; i < c.cases.size(); ++i) o << (i ? "; " : "") << c.cases[i].name << ": " << c.cases[i].cert.rule;
@@ -176,7 +313,8 @@ std::string complianceMarkdown(const Compliance& c, const std::string& pictures)
       << kTableHead;
     for (const auto& v : c.checks) o << row(v, &s);
   }
-  o << "\n## Pictures\n\n" << pictures << "\n";
+  if (c.envelope) o << envelopeMarkdown(c);
+  o << "\n## Pictures" << (c.envelope ? " (the nominal point)" : "") << "\n\n" << pictures << "\n";
   return o.str();
 }
 
@@ -202,7 +340,18 @@ std::string complianceSummary(const Compliance& c) {
   for (const auto& v : c.cases) line(v);
   for (const auto& u : c.unit) o << "unit: " << u.name << " = " << sig(u.value, 4) << " >= " << sig(u.bound, 4) << ": " << (u.pass ? "PASS" : "FAIL") << "\n";
   for (const auto& v : c.checks) line(v);
-  o << (c.pass ? "PASS" : "FAIL") << ": " << c.spec->basisName << " matrix"
+  auto over = [&](const EnvelopeVerdict& ev) {
+    o << "envelope: " << ev.name << ": " << (ev.pass ? "PASS" : "FAIL") << " at " << ev.at.size() - ev.failing << " of "
+      << ev.at.size() << " points";
+    for (const auto& w : ev.worst)
+      if (w.limit.metric == "stroke_margin" || !w.pass)
+        o << "; " << w.limit.metric << " worst at " << w.corner << " (margin " << marginText(w) << ")";
+    o << "\n";
+  };
+  for (const auto& ev : c.envelopeCases) over(ev);
+  for (const auto& ev : c.envelopeChecks)
+    if (!ev.pass) over(ev);
+  o << (c.pass ? "PASS" : "FAIL") << ": " << c.spec->basisName << " matrix" << (c.envelope ? " over the envelope" : "")
     << (c.checks.empty() ? "" : c.checksPass ? "; the scene's own cases within their limits"
                                              : "; some of the scene's own cases exceed a limit (checks, not the verdict)")
     << "\n";
