@@ -30,10 +30,12 @@ std::vector<DropCase> designCases(const Study& s, const Scene& designScene, bool
     DropCase d = c.dropCase;
     if (c.origin == CaseOrigin::Scene) {
       for (const auto& sc : designScene.cases)
-        if (sc.name == d.name) d = sc;  // design variables may edit scene cases ("limit.sink_speed")
+        if (sc.name == c.baseName) d = sc;  // design variables may edit scene cases ("limit.sink_speed")
     } else if (c.origin == CaseOrigin::Certification && s.certification) {
-      d = certDropCase(designScene, *s.certification, *s.certification->findCase(d.name));  // W on this design
+      d = certDropCase(designScene, *s.certification, *s.certification->findCase(c.baseName));  // W on this design
     }
+    d.name = c.dropCase.name;  // (at a corner: "<case>@<corner>")
+    d.corner = c.dropCase.corner;
     out.push_back(d);
   }
   return out;

@@ -167,6 +167,28 @@ std::string resultJson(const Study& s, const StudyResult& r, double wall) {
   j << "  \"wall_time_s\": " << jsonNumber(wall) << ",\n";
   j << "  \"nlopt\": {\"code\": " << o.nloptCode << ", \"name\": " << jsonString(o.nloptName)
     << ", \"reason\": " << jsonString(o.reason) << ", \"converged\": " << jsonBool(o.converged) << "},\n";
+  if (r.robustness.robust) {
+    const Robustness& b = r.robustness;
+    j << "  \"robustness\": {\"points\": " << b.points << ", \"robust_objective\": " << jsonNumber(o.best.objective)
+      << ", \"nominal_study\": " << jsonBool(b.nominalRun);
+    if (b.nominalRun) {
+      const double price = o.best.objective - b.nominalObjective;
+      j << ", \"nominal_objective\": " << jsonNumber(b.nominalObjective) << ", \"nominal_feasible\": "
+        << jsonBool(b.nominalFeasible) << ", \"nominal_evaluations\": " << b.nominalEvaluations << ", \"price\": "
+        << jsonNumber(price) << ", \"price_percent\": " << jsonNumber(100 * price / std::abs(b.nominalObjective))
+        << ", \"nominal_optimum_violated_at_corners\": " << b.nominalViolated << ", \"nominal_optimum_worst\": "
+        << jsonString(b.nominalWorst) << ", \"nominal_optimum_worst_g\": " << jsonNumber(b.nominalWorstG)
+        << ", \"nominal_x\": [";
+      for (size_t i = 0; i < b.nominalX.size(); ++i) j << (i ? ", " : "") << jsonNumber(b.nominalX[i]);
+      j << "]";
+    }
+    j << ",\n    \"active\": [";
+    for (size_t i = 0; i < b.active.size(); ++i)
+      j << (i ? ",\n      " : "\n      ") << "{\"constraint\": " << jsonString(b.active[i].constraint)
+        << ", \"case\": " << jsonString(b.active[i].caseName) << ", \"corner\": " << jsonString(b.active[i].corner)
+        << ", \"g\": " << jsonNumber(b.active[i].g) << "}";
+    j << "]},\n";
+  }
   j << "  \"cases\": {\n    \"baseline\": " << casesJson(s, r.baselineVerdicts, "    ") << ",\n";
   j << "    \"best\": " << casesJson(s, r.bestVerdicts, "    ") << "\n  }\n}\n";
   return j.str();
@@ -270,6 +292,39 @@ std::string verdictCell(const CaseVerdict& v) {
   return s;
 }
 
+// The robust study's section: the envelope, the price of robustness, the active corners.
+std::string robustnessMarkdown(const Study& s, const StudyResult& r) {
+  const Robustness& b = r.robustness;
+  const OptimizationResult& o = r.opt;
+  std::ostringstream m;
+  m << "## Robustness over the servicing and temperature envelope\n\n";
+  m << "The steering cases ran at " << b.points << " points of the scene's envelope (the nominal point and "
+    << b.points - 1 << " corners); the objective at " << (s.envelope.objectiveWorst ? "its worst point" : "the nominal point")
+    << ", every constraint at every point. The envelope:\n\n";
+  for (const auto& f : s.scene.envelope.factors()) m << "- " << f << "\n";
+  m << "\n";
+  if (b.nominalRun) {
+    const double price = o.best.objective - b.nominalObjective;
+    m << "**Price of robustness:** the nominal study (the same study at the nominal point only, " << b.nominalEvaluations
+      << " evaluations) reaches " << shortNum(b.nominalObjective) << (b.nominalFeasible ? "" : " (not feasible)")
+      << "; the robust optimum " << shortNum(o.best.objective) << ": " << (price >= 0 ? "+" : "") << shortNum(price) << " ("
+      << (price >= 0 ? "+" : "") << shortNum(100 * price / std::abs(b.nominalObjective), 3) << " %).\n\n";
+    m << "The nominal optimum breaks " << b.nominalViolated << " of this study's " << s.items.size()
+      << " constraints at the points of the envelope";
+    if (b.nominalViolated > 0) m << "; the most: `" << b.nominalWorst << "`, g = " << shortNum(b.nominalWorstG) << " (> 0 breaks it)";
+    m << ".\n\n";
+  }
+  m << "Active constraints of the robust optimum (within 1e-3 of their scale):\n\n";
+  if (b.active.empty()) m << "none.\n\n";
+  else {
+    m << "| constraint | case | corner | g |\n|---|---|---|---|\n";
+    for (const auto& a : b.active)
+      m << "| " << a.constraint << " | " << a.caseName << " | " << a.corner << " | " << shortNum(a.g) << " |\n";
+    m << "\n";
+  }
+  return m.str();
+}
+
 std::string reportMarkdown(const Study& s, const StudyResult& r, double wall, const std::string& pictures,
                            bool gnuplotPresent, bool plotsWanted) {
   const OptimizationResult& o = r.opt;
@@ -294,6 +349,7 @@ std::string reportMarkdown(const Study& s, const StudyResult& r, double wall, co
   m << "- best design " << (o.feasible ? "is feasible (every constraint holds)" : "is **not feasible**");
   if (s.certification) m << "; certification matrix: " << (r.certified ? "**PASS**" : "**FAIL**");
   m << "; check cases: " << (r.checksWithinLimits ? "within their limits" : "**some exceed a limit** (see Cases)") << "\n\n";
+  if (r.robustness.robust) m << robustnessMarkdown(s, r);
   const double f0 = o.initial.objective, f1 = o.best.objective;
   m << "## Objective\n\n| | baseline | best | change |\n|---|---|---|---|\n";
   m << "| " << (maximize ? "efficiency [-]" : "peak load [N]") << " | " << shortNum(f0) << " | " << shortNum(f1) << " | "
@@ -349,7 +405,7 @@ std::string reportMarkdown(const Study& s, const StudyResult& r, double wall, co
 std::vector<Limit> reportLimits(const Study& s, int caseIndex) {
   const StudyCase& c = s.cases[caseIndex];
   std::vector<Limit> out;
-  const CertCase* cc = c.origin == CaseOrigin::Certification && s.certification ? s.certification->findCase(c.dropCase.name)
+  const CertCase* cc = c.origin == CaseOrigin::Certification && s.certification ? s.certification->findCase(c.baseName)
                                                                                 : nullptr;
   out = cc ? caseLimits(*s.certification, *cc, s.scene) : checkLimits(s.certification.get(), s.scene);
   for (const auto& spec : s.constraints)
@@ -504,7 +560,7 @@ void judgeCases(const Study& s, StudyResult& res) {
       cc.mass = m.mass_kg;
       cc.duration = s.cases[i].dropCase.duration;
       if (s.cases[i].origin == CaseOrigin::Certification)
-        if (const CertCase* c = s.certification->findCase(m.name)) cc = *c;
+        if (const CertCase* c = s.certification->findCase(s.cases[i].baseName)) cc = *c;
       return assessCase(roleName(s.cases[i].role), cc, m, limits);
     };
     res.baselineVerdicts.push_back(verdict(res.baselineCases[i]));
@@ -515,12 +571,75 @@ void judgeCases(const Study& s, StudyResult& res) {
       if (!s.cases[i].steers()) res.checksWithinLimits = false;
       std::string why;
       for (size_t k = 0; k < v.reasons.size(); ++k) why += (k ? "; " : "") + v.reasons[k];
-      res.warnings.push_back("the best design exceeds a limit in " + std::string(roleName(s.cases[i].role)) +
-                             " case '" + v.name + "': " + why);
+      // A case over the envelope: one warning with its count of points (report.md lists each).
+      const std::string& base = s.cases[i].baseName;
+      int failing = 0, points = 0;
+      size_t first = i;
+      for (size_t j = 0; j < s.cases.size() && j < res.bestCases.size(); ++j)
+        if (s.cases[j].baseName == base && s.cases[j].steers() == s.cases[i].steers() && !s.cases[j].corner.empty()) {
+          ++points;
+          if (j < i && j < res.bestVerdicts.size() && !res.bestVerdicts[j].pass) first = std::min(first, j);
+        }
+      if (first < i) continue;  // (said with the first failing point)
+      for (size_t j = 0; j < s.cases.size() && j < res.bestCases.size(); ++j)
+        if (s.cases[j].baseName == base && s.cases[j].steers() == s.cases[i].steers() && !s.cases[j].corner.empty()) {
+          const std::vector<Limit> lj = reportLimits(s, static_cast<int>(j));
+          failing += assessCase(roleName(s.cases[j].role), CertCase{}, res.bestCases[j], lj).pass ? 0 : 1;
+        }
+      res.warnings.push_back("the best design exceeds a limit in " + std::string(roleName(s.cases[i].role)) + " case '" +
+                             (points > 0 ? base + "' at " + std::to_string(failing) + " of " + std::to_string(points) +
+                                               " points of the envelope (first: " + v.name + ")"
+                                         : v.name + "'") +
+                             ": " + why);
     }
   }
   if (s.certification)
     for (const auto& u : unitItems(*s.certification)) res.certified = res.certified && u.pass;
+}
+
+// A robust study's active corners and, with nominal_study, its nominal variant run (logged to
+// DIR/nominal/history.csv) and its optimum checked against the robust study's constraints.
+void measureRobustness(const Study& s, const RunOptions& o, const fs::path& dir,
+                       std::chrono::steady_clock::time_point t0, StudyResult& res) {
+  Robustness& b = res.robustness;
+  b.robust = true;
+  b.points = static_cast<int>(s.corners.size());
+  const std::vector<double> scales = constraintScales(s);
+  const Evaluation& best = res.opt.best;
+  for (size_t k = 0; k < s.items.size() && k < best.constraints.size(); ++k)
+    if (best.constraints[k] > -1e-3 * scales[k]) {
+      const ConstraintItem& it = s.items[k];
+      const StudyCase* c = it.caseIndex >= 0 ? &s.cases[it.caseIndex] : nullptr;
+      b.active.push_back({it.name, c ? c->baseName : "design", c ? c->corner : "", best.constraints[k]});
+    }
+  if (!s.envelope.nominalStudy || (o.stop && o.stop())) return;
+  const Study nominal = loadStudy(s.file, s.sets, true);
+  const fs::path nd = dir / "nominal";
+  prepareOutputDir(nd.string());
+  StudyResult nr;
+  RunOptions no = o;
+  no.resume = false;
+  no.progress = nullptr;
+  optimiseLogged(nominal, no, nd / "history.csv", t0, nr);
+  if (nr.opt.history.empty()) return;
+  b.nominalRun = true;
+  b.nominalObjective = nr.opt.best.objective;
+  b.nominalFeasible = nr.opt.feasible;
+  b.nominalX = nr.opt.x;
+  b.nominalEvaluations = nr.opt.evaluations;
+  EvaluatorOptions eo;
+  eo.threads = o.threads;
+  eo.stop = o.stop;
+  const Evaluation e = evaluateDesign(s, nr.opt.x, eo);
+  double worst = -std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < e.constraints.size() && k < s.items.size(); ++k) {
+    if (e.constraints[k] > 0) ++b.nominalViolated;
+    if (e.constraints[k] > 0 && e.constraints[k] / scales[k] > worst) {
+      worst = e.constraints[k] / scales[k];
+      b.nominalWorst = s.items[k].name;
+      b.nominalWorstG = e.constraints[k];
+    }
+  }
 }
 
 }  // namespace
@@ -545,6 +664,7 @@ StudyResult runStudy(const Study& s, const RunOptions& o) {
   std::vector<CaseResult> baseRuns, bestRuns;
   recheckCases(s, o, res, baseRuns, bestRuns);
   judgeCases(s, res);
+  if (s.envelope.robust()) measureRobustness(s, o, dir, t0, res);
 
   res.bestToml = bestSceneText(s, res.opt.x, dir.string());
   writeFileAtomic((dir / "best.toml").string(), res.bestToml);

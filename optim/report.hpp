@@ -9,6 +9,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,26 @@ struct RunOptions {
   std::function<void(const EvaluationRecord&, double elapsed_s)> progress;  // after each evaluation
 };
 
+// What a robust study's constraints at the corners cost, and where they bind (Study::envelope).
+struct Robustness {
+  bool robust = false;             // the study ran its steering cases at the corners
+  int points = 0;                  // points of the envelope (nominal and corners)
+  struct Active {
+    std::string constraint;        // the item's name ("stroke_margin_min@cert-reserve@cold-...")
+    std::string caseName, corner;  // its case and point
+    double g = 0;                  // [metric's unit] g_j at the best design (<= 0 holds)
+  };
+  std::vector<Active> active;      // the constraints within 1e-3 of their scale of binding at the best design
+  bool nominalRun = false;         // the nominal variant was run (nominal_study)
+  double nominalObjective = std::numeric_limits<double>::quiet_NaN();  // its optimum's objective
+  bool nominalFeasible = false;
+  std::vector<double> nominalX;    // its optimum (physical)
+  int nominalEvaluations = 0;
+  int nominalViolated = 0;         // the robust study's constraints the nominal optimum breaks at the corners
+  std::string nominalWorst;        // the one it breaks most (scaled), and its g [metric's unit]
+  double nominalWorstG = std::numeric_limits<double>::quiet_NaN();
+};
+
 struct StudyResult {
   OptimizationResult opt;
   // Every case of the study (Study::cases order: steering, then checks), re-simulated for the baseline
@@ -43,6 +64,7 @@ struct StudyResult {
   std::string bestToml;          // the text written to best.toml
   bool gnuplot = false;          // pictures were made
   std::vector<std::string> warnings;
+  Robustness robustness;
 };
 
 // Runs the study and writes DIR; throws only for I/O errors (std::runtime_error).

@@ -131,6 +131,92 @@ void parseCertificationTable(const toml::table& doc, const std::string& file, St
   s.scene.certification = s.certification;
 }
 
+// [envelope]: where the cases run in the scene's envelope, and the scene's keys laid over its own.
+void parseEnvelopeTable(const toml::table& doc, const std::string& file, Study& s, bool nominal) {
+  const toml::table* t = tableOf(doc, "envelope", file);
+  if (t) {
+    TomlReader r(*t, file, "envelope");
+    s.envelope.line = r.line();
+    auto choice = [&](const char* key, const char* a, const char* b, const char* def) {
+      const std::string v = r.string(key, def);
+      if (v != a && v != b) r.fail(key, "value '" + v + "' must be \"" + a + "\" or \"" + b + "\"");
+      return v == a;
+    };
+    s.envelope.constraintsAtCorners = choice("constraints", "corners", "nominal", "corners");
+    s.envelope.objectiveWorst = !choice("objective", "nominal", "worst", "nominal");
+    s.envelope.checksAtCorners = choice("checks", "corners", "nominal", "corners");
+    s.envelope.nominalStudy = r.boolean("nominal_study", true);
+    toml::table merged;
+    if (const toml::table* st = s.scene.doc["envelope"].as_table()) merged = *st;
+    for (const auto& [k, v] : *t)
+      if (k.str() != "constraints" && k.str() != "objective" && k.str() != "checks" && k.str() != "nominal_study")
+        merged.insert_or_assign(k, v);
+    if (merged.empty())
+      r.fail("constraints", "the scene has no [envelope] table: declare its ranges and tolerances there or here "
+                            "(service_temperature_C, landing_temperature_C, charge_tolerance, ...)");
+    try {
+      s.scene.envelope = parseEnvelope(merged, file, s.scene);
+    } catch (const InputError& e) {
+      // The merged table's nodes carry no file: name the one the offending key came from.
+      std::string key = e.key().rfind("envelope.", 0) == 0 ? e.key().substr(9) : e.key();
+      key = key.substr(0, key.find_first_of(".["));
+      const std::string rule = std::string(e.what()).substr(InputError::format(e.file(), e.line(), e.key(), "").size());
+      if (t->contains(key)) throw InputError(file, TomlReader(*t, file, "").lineOf(key), e.key(), rule);
+      if (const toml::table* st = s.scene.doc["envelope"].as_table(); st && st->contains(key))
+        throw InputError(s.sceneFile, TomlReader(*st, s.sceneFile, "").lineOf(key), e.key(), rule);
+      throw InputError(file, r.line(), e.key(), rule);
+    }
+    s.scene.doc.insert_or_assign("envelope", merged);  // best.toml keeps the envelope the study used
+    if (!s.scene.envelope.declared) s.envelope = EnvelopeUse{};
+  }
+  if (nominal) {
+    s.envelope.constraintsAtCorners = false;
+    s.envelope.objectiveWorst = false;
+    s.envelope.nominalStudy = false;
+  }
+  if (s.scene.envelope.declared) s.corners = s.scene.envelope.corners();
+}
+
+// Each case at every point of the envelope where the study asks (nominal first, then "<case>@<corner>"),
+// steering cases first. A corner copy of an objective case constrains unless the objective is the worst.
+void expandCorners(Study& s) {
+  for (auto& c : s.cases) {
+    c.baseName = c.dropCase.name;
+    c.baseRole = c.role;
+  }
+  if (s.corners.empty()) return;
+  std::vector<StudyCase> out;
+  for (const StudyCase& c : s.cases) {
+    const bool expand = c.steers() ? s.envelope.constraintsAtCorners || (s.envelope.objectiveWorst && c.role == CaseRole::Objective)
+                                   : s.envelope.checksAtCorners;
+    if (!expand) {
+      out.push_back(c);
+      if (c.steers() && s.envelope.checksAtCorners)  // re-checked at the corners all the same
+        for (size_t k = 1; k < s.corners.size(); ++k) {
+          StudyCase x = c;
+          x.role = CaseRole::Check;
+          x.corner = s.corners[k].name;
+          x.dropCase.corner = s.corners[k];
+          x.dropCase.name += "@" + s.corners[k].name;
+          out.push_back(x);
+        }
+      continue;
+    }
+    for (size_t k = 0; k < s.corners.size(); ++k) {
+      StudyCase x = c;
+      x.corner = s.corners[k].name;
+      x.dropCase.corner = s.corners[k];
+      if (k > 0) {
+        x.dropCase.name += "@" + s.corners[k].name;
+        if (x.role == CaseRole::Objective && !s.envelope.objectiveWorst) x.role = CaseRole::Constraint;
+      }
+      out.push_back(x);
+    }
+  }
+  std::stable_partition(out.begin(), out.end(), [](const StudyCase& c) { return c.steers(); });
+  s.cases = std::move(out);
+}
+
 // [[case]]: the study's cases with their roles, then every case of the scene and of the matrix that the
 // study does not name (checks; the matrix's with the [certification] role). Steering cases come first.
 void parseCases(const toml::table& doc, const std::string& file, Study& s) {
@@ -259,18 +345,20 @@ void parseConstraints(const toml::table& doc, const std::string& file, Study& s)
         if (!e.is_string()) r.fail("cases", "must be a list of case names, or one of \"steering\", \"objective\", \"constraint\"");
         const std::string name(*e.value<std::string>());
         int found = -1;
-        for (size_t k = 0; k < s.cases.size(); ++k)
-          if (s.cases[k].dropCase.name == name) found = static_cast<int>(k);
+        for (size_t k = 0; k < s.cases.size(); ++k)  // (a case at every point of the envelope: each)
+          if (s.cases[k].dropCase.name == name || s.cases[k].baseName == name) {
+            found = static_cast<int>(k);
+            if (!s.cases[found].steers())
+              r.fail("cases", "'" + name + "' is a check case: checks never steer; give it role = \"constraint\" in a [[case]]");
+            if (std::find(idx.begin(), idx.end(), found) == idx.end()) idx.push_back(found);
+          }
         if (found < 0) r.fail("cases", "'" + name + "' is not a case of the study, its scene or its matrix");
-        if (!s.cases[found].steers())
-          r.fail("cases", "'" + name + "' is a check case: checks never steer; give it role = \"constraint\" in a [[case]]");
-        if (std::find(idx.begin(), idx.end(), found) == idx.end()) idx.push_back(found);
       }
       if (idx.empty()) r.fail("cases", "names no case");
     } else {
       const std::string sel = n ? (n->is_string() ? std::string(*n->value<std::string>()) : std::string("?")) : "steering";
       for (int k = 0; k < steering; ++k) {
-        const CaseRole role = s.cases[k].role;
+        const CaseRole role = s.cases[k].baseRole;
         if (sel == "steering" || (sel == "objective" && role == CaseRole::Objective) ||
             (sel == "constraint" && role == CaseRole::Constraint))
           idx.push_back(k);
@@ -300,7 +388,7 @@ void parseConstraints(const toml::table& doc, const std::string& file, Study& s)
   if (s.certification)
     for (int k = 0; k < steering; ++k) {
       if (s.cases[k].origin != CaseOrigin::Certification) continue;
-      const CertCase* cc = s.certification->findCase(s.cases[k].dropCase.name);
+      const CertCase* cc = s.certification->findCase(s.cases[k].baseName);
       for (const Limit& l : caseLimits(*s.certification, *cc, s.scene)) {
         ConstraintSpec c;
         c.metric = l.metric;
@@ -538,16 +626,17 @@ void applySolverTable(const toml::table* t, const std::string& file, Scene& scen
 }
 
 Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir,
-                 const std::vector<ParameterOverride>& sets) {
+                 const std::vector<ParameterOverride>& sets, bool nominal) {
   const toml::table doc = parseToml(text, file);
   Study s;
   s.file = file;
+  s.sets = sets;
   TomlReader top(doc, file, "");
   if (top.has("constraints"))
     top.fail("constraints", "the [constraints] table was replaced by a list of [[constraint]] tables, one bound each, "
                             "e.g. [[constraint]] metric = \"stroke_margin\" min = 0.01 (README, \"Study files\")");
   top.allowOnly({"name", "description", "scene", "solver", "variable", "case", "objective", "constraint", "certification",
-                 "algorithm", "sensitivity"});
+                 "envelope", "algorithm", "sensitivity"});
   s.name = top.name("name", safeFileStem(std::filesystem::path(file).stem().string()));
   (void)top.string("description", "");
 
@@ -570,6 +659,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
   applySolverTable(tableOf(doc, "solver", file), file, s.scene, s.sceneFile, s.sceneDir);
 
   parseCertificationTable(doc, file, s);
+  parseEnvelopeTable(doc, file, s, nominal);
 
   // [[variable]]
   const auto vars = tablesOf(doc, "variable", file);
@@ -613,7 +703,18 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
   }
 
   parseCases(doc, file, s);
+  expandCorners(s);
+  if (s.envelope.robust())
+    for (size_t i = 0; i < s.variables.size(); ++i)
+      if (s.parameters[i].kind == Parameter::Kind::Envelope)
+        throw InputError(file, s.variables[i].line, "variable[" + std::to_string(i) + "].path",
+                         "'" + s.variables[i].path + "' is a point of the envelope, and this study runs at its corners: "
+                         "a robust design cannot choose its servicing (set [envelope] constraints = \"nominal\")");
   parseObjective(doc, file, s);
+  if (s.envelope.objectiveWorst && s.objective.aggregate != Aggregate::Worst)
+    throw InputError(file, s.envelope.line, "envelope.objective",
+                     "the worst corner's objective needs [objective] aggregate = \"worst\" (a weighted sum over the "
+                     "corners is no worst case)");
   parseConstraints(doc, file, s);
   parseAlgorithm(doc, file, s);
   parseSensitivity(doc, file, s);
@@ -621,13 +722,13 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
   return s;
 }
 
-Study loadStudy(const std::string& path, const std::vector<ParameterOverride>& sets) {
+Study loadStudy(const std::string& path, const std::vector<ParameterOverride>& sets, bool nominal) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, 0, "", "study file does not exist");
   const std::string text = readText(path, "study file");
   std::string base = std::filesystem::path(path).parent_path().string();
   if (base.empty()) base = ".";
-  return parseStudy(text, path, base, sets);
+  return parseStudy(text, path, base, sets, nominal);
 }
 
 }  // namespace lg::optim

@@ -71,7 +71,11 @@ enum class CaseOrigin { Scene, Study, Certification };
 const char* originName(CaseOrigin o);
 
 struct StudyCase {
-  DropCase dropCase;        // resolved case
+  DropCase dropCase;        // resolved case ("<case>@<corner>" at a corner of the envelope; dropCase.corner)
+  std::string baseName;     // the case's own name (the scene's or the matrix's: "cert-reserve")
+  std::string corner;       // the envelope point it runs at ("nominal", a corner's name); empty: the scene's point
+  CaseRole baseRole = CaseRole::Objective;  // the role the study gave the case (a corner copy of an
+                                            // objective case constrains where the objective is nominal)
   CaseRole role = CaseRole::Objective;
   CaseOrigin origin = CaseOrigin::Study;
   double weight = 1;        // [-] weight in aggregate = "weighted_sum"
@@ -138,6 +142,26 @@ struct SensitivitySettings {
   int line = 0;                      // the [sensitivity] table (0: absent)
 };
 
+// [envelope] of a study: where its cases run in the scene's servicing and temperature envelope
+// (sim/envelope.hpp), and any key of the scene's [envelope] to override.
+//   constraints = "corners" | "nominal"   the steering cases (and so every constraint) at every point of
+//                                          the envelope, or at the nominal point only
+//   objective = "nominal" | "worst"       the objective at the nominal point (its corner copies constrain),
+//                                          or the worst over every point (aggregate "worst": an epigraph)
+//   checks = "corners" | "nominal"        the check cases (re-checked for baseline and best) likewise
+//   nominal_study = true                  a robust study first runs the nominal one (the same study at the
+//                                          nominal point) for the price of robustness (report.md, result.json)
+// Without the table a study runs its steering cases at the scene's point and, where the scene declares
+// an envelope, re-checks the checks at every corner (a violation there is shown, never hidden).
+struct EnvelopeUse {
+  bool constraintsAtCorners = false;
+  bool objectiveWorst = false;
+  bool checksAtCorners = true;
+  bool nominalStudy = true;
+  int line = 0;            // the study's [envelope] table (0: absent)
+  bool robust() const { return constraintsAtCorners || objectiveWorst; }
+};
+
 struct Study {
   std::string file;       // study file as given (messages)
   std::string name;       // "name" key, default: file stem
@@ -155,6 +179,9 @@ struct Study {
   bool staticStrokeNeeded = false;
   AlgorithmSettings algorithm;
   SensitivitySettings sensitivity;
+  EnvelopeUse envelope;                // the study's [envelope]
+  std::vector<EnvelopeCorner> corners; // the scene's envelope points the cases run at (nominal first; empty: none)
+  std::vector<ParameterOverride> sets; // the command line's --set (the nominal variant of a robust study reads them)
   // The drop-test solver: the relative accuracy of the metrics the study's tolerances need (a tenth of the
   // smallest of xtol_rel and ftol_rel, within 1e-5 .. 1e-2), and the setting the study runs with, in
   // words, with why (reports and the terminal). Without a [solver] of its own the study keeps the
@@ -168,10 +195,11 @@ struct Study {
 
 // Parses and validates a study; throws lg::InputError (file, line, key, rule). 'sets' (the command
 // line's --set) override parameters of the study's scene before anything else reads it.
-Study loadStudy(const std::string& path, const std::vector<ParameterOverride>& sets = {});
+// 'nominal': the study's nominal variant (its [envelope] constraints and objective at the nominal point).
+Study loadStudy(const std::string& path, const std::vector<ParameterOverride>& sets = {}, bool nominal = false);
 // 'file' names the text in messages; 'baseDir' resolves the scene path.
 Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir = ".",
-                 const std::vector<ParameterOverride>& sets = {});
+                 const std::vector<ParameterOverride>& sets = {}, bool nominal = false);
 
 // The [solver] table 't' of a study or calibration file (integrator, rtol, atol = rtol/100 unless given,
 // step; or accuracy, which chooses integrator and tolerances; absent: nothing) written into the scene's own [solver], and the scene rebuilt with it: every
