@@ -577,3 +577,41 @@ TEST_CASE("gradient: the peak drag of wheel spin-up against central differences"
                        .find("drag_peak")
                        ->value));
 }
+
+// At a corner of the servicing and temperature envelope (sim/envelope.hpp): the design's parameters and
+// the envelope's own quantities (temperature, charge, gas volume, orifice tolerance) against central
+// differences, the scene's point at the seed gear's worst corner for the reserve drop's stroke; a case
+// that carries the corner itself (certify, robust studies) gives the same derivatives, bit for bit.
+TEST_CASE("gradient: at a corner of the envelope, design and envelope quantities against central differences",
+          "[gradient][envelope]") {
+  lg::Scene sc = tightScene(lgtest::shippedDoc("data/seed_gear.toml"));
+  REQUIRE(sc.envelope.declared);
+  const std::vector<lg::EnvelopeCorner> corners = sc.envelope.corners();
+  const lg::EnvelopeCorner* cold = nullptr;
+  for (const auto& c : corners)
+    if (c.name == "cold-lowcharge-lowoil-largeorifice") cold = &c;
+  REQUIRE(cold != nullptr);
+  sc.envelope.point = cold->at;
+  Tally tally;
+  const lg::DropCase& reserve = lgtest::findCase(sc, "reserve");
+  compare("seed reserve at " + cold->name, sc, reserve,
+          {"strut.f1", "strut.p01", "strut.Omega0", "envelope.temperature_C", "envelope.charge", "envelope.gas_volume",
+           "envelope.orifice"},
+          tally);
+  CHECK(tally.compared > 40);
+  // the same corner carried by the case
+  lg::Scene nominal = sc;
+  nominal.envelope.point = nominal.envelope.nominal();
+  lg::DropCase atCorner = reserve;
+  atCorner.corner = *cold;
+  std::vector<lg::Parameter> ps;
+  for (const char* path : {"strut.f1", "envelope.temperature_C"}) ps.push_back(lg::resolveParameter(nominal, path));
+  const lg::CaseGradient a = lg::caseGradient(sc, reserve, ps), b = lg::caseGradient(nominal, atCorner, ps);
+  REQUIRE(a.ok);
+  REQUIRE(b.ok);
+  for (size_t i = 0; i < a.metrics.size(); ++i)
+    for (size_t j = 0; j < ps.size(); ++j)
+      if (!std::isnan(a.metrics[i].value)) CHECK(a.metrics[i].d[j] == b.metrics[i].d[j]);
+  std::printf("gradient: %d derivatives at the envelope's corner %s within %.1e of the differences\n", tally.compared,
+              cold->name.c_str(), tally.worst);
+}
