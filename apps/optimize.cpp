@@ -90,6 +90,18 @@ int main(int argc, char** argv) {
       std::printf("  certification matrix (%s, %s): %s\n", study.certification->basisName.c_str(),
                   study.certificationRole == lg::optim::CaseRole::Check ? "checked" : "constraining the design",
                   res.certified ? "PASS" : "FAIL");
+    if (!study.corners.empty())
+      std::printf("  envelope: %zu points; steering cases %s, checks %s\n", study.corners.size(),
+                  study.envelope.robust() ? "at every point" : "at the nominal point",
+                  study.envelope.checksAtCorners ? "at every point" : "at the nominal point");
+    if (const auto& b = res.robustness; b.robust) {
+      if (b.nominalRun)
+        std::printf("  price of robustness: the nominal study's optimum %.6g -> %.6g (%+.3g %%); it breaks %d constraints "
+                    "at the corners, most %s\n",
+                    b.nominalObjective, o.best.objective, 100 * (o.best.objective - b.nominalObjective) / b.nominalObjective,
+                    b.nominalViolated, b.nominalWorst.empty() ? "none" : b.nominalWorst.c_str());
+      for (const auto& a : b.active) std::printf("  active: %s (g = %.3g)\n", a.constraint.c_str(), a.g);
+    }
     std::printf("  check cases: %s\n", res.checksWithinLimits ? "within their limits"
                                                                : "some exceed a limit (warnings above, report.md)");
     for (size_t i = 0; i < study.variables.size(); ++i)

@@ -31,9 +31,16 @@ fs::path tempDir() {
 
 using lgtest::readFile;
 
-// The shipped study, shortened.
+// The shipped nominal study (its constraints at the nominal point of the envelope), shortened, with its
+// checks at the nominal point too: the mechanics of a study on the eight cases of the scene and its
+// matrix. The robust main study is run whole below.
 Study shippedStudy(int maxeval) {  // maxeval < 0: as shipped
-  Study s = loadStudy(std::string(LG_SOURCE_DIR) + "/studies/seed_gear_min_peak.cfg");
+  const std::string path = std::string(LG_SOURCE_DIR) + "/studies/seed_gear_min_peak_nominal.cfg";
+  std::string text = readFile(path);
+  const std::string from = "constraints = \"nominal\"";
+  REQUIRE(text.find(from) != std::string::npos);
+  text.replace(text.find(from), from.size(), from + "\nchecks = \"nominal\"");
+  Study s = parseStudy(text, path, std::string(LG_SOURCE_DIR) + "/studies");
   if (maxeval >= 0) s.algorithm.maxeval = maxeval;
   return s;
 }
@@ -144,14 +151,25 @@ TEST_CASE("study run: the main study's optimum passes its certification matrix a
   CHECK(json.find("\"checks_within_limits\": false") != std::string::npos);
   const std::string hist = readFile(fs::path(o.outDir) / "history.csv");
   CHECK(std::count(hist.begin(), hist.end(), '\n') == opt.evaluations + 2);
-  // certify best.toml as written: every matrix case passes (exit 0)
+  // certify best.toml as written at the nominal point: every matrix case passes (exit 0) ...
   const fs::path cert = fs::path(o.outDir) / "certify";
   const std::string cmd = std::string(LG_BIN_DIR) + "/certify '" + (fs::path(o.outDir) / "best.toml").string() +
                           "' --out '" + cert.string() + "' --quiet";
-  const int rc = std::system(cmd.c_str());
+  const int rc = std::system((cmd + " --nominal").c_str());
   REQUIRE(WIFEXITED(rc));
   CHECK(WEXITSTATUS(rc) == 0);
   CHECK(readFile(cert / "compliance.json").find("\"pass\": true,\n  \"checks_pass\": false") != std::string::npos);
+  // ... and fails over its envelope: the reserve drop at the cold, under-charged corner with low oil and
+  // large orifices comes within 0.4 mm of the bottoming stop (exit 1, that corner named)
+  const int rc2 = std::system(cmd.c_str());
+  REQUIRE(WIFEXITED(rc2));
+  CHECK(WEXITSTATUS(rc2) == 1);
+  const std::string md = readFile(cert / "compliance.md");
+  CHECK(md.find("**Verdict over the envelope: FAIL** (at the nominal point: PASS)") != std::string::npos);
+  CHECK(md.find("| cert-reserve | stroke margin to the bottoming stop >= 0.01 m | cold-lowcharge-lowoil-largeorifice | ") !=
+        std::string::npos);
+  CHECK(readFile(cert / "compliance.json").find("\"worst_corner\": \"cold-lowcharge-lowoil-largeorifice\"") !=
+        std::string::npos);
   // best.toml reproduces the reported metrics of the scene's cases, bit for bit
   const lg::Scene best = lg::parseScene(readFile(fs::path(o.outDir) / "best.toml"), "best.toml", s.sceneDir);
   for (size_t i = 3; i < names.size(); ++i) {
@@ -287,4 +305,52 @@ TEST_CASE("study run: a design's exact gradient is the same for any thread count
   // and the values agree with the plain evaluation's to round-off
   const Evaluation plain = evaluateDesign(s, x, o1);
   CHECK(std::abs(a.objective - plain.objective) <= 1e-10 * plain.objective);
+}
+
+// The main job as shipped: the robust study. Every constraint of the matrix holds at every point of the
+// seed gear's envelope; the reserve drop's stroke margin binds at the cold, under-charged corner with low
+// oil and large orifices; the nominal study runs first and its optimum breaks that corner; the price of
+// robustness is reported; best.toml passes `certify` at every corner and still lowers the limit load.
+TEST_CASE("study run: the robust main study holds its limits at every corner and passes certify there",
+          "[optim][seed][main][envelope]") {
+  const Study s = loadStudy(std::string(LG_SOURCE_DIR) + "/studies/seed_gear_min_peak.cfg");
+  REQUIRE(s.envelope.robust());
+  REQUIRE(s.corners.size() == 17);
+  CHECK(s.steeringCases() == 3 * 17);
+  CHECK(s.items.size() == 9 * 17);
+  RunOptions o;
+  o.outDir = (tempDir() / "robust").string();
+  o.threads = 2;
+  o.plots = false;
+  const StudyResult r = runStudy(s, o);
+  REQUIRE(r.opt.feasible);
+  CHECK(r.opt.converged);
+  for (double g : r.opt.best.constraints) CHECK(g <= 0.0);
+  CHECK(r.certified);
+  const Robustness& b = r.robustness;
+  REQUIRE(b.robust);
+  REQUIRE(b.nominalRun);
+  CHECK(b.points == 17);
+  // the price: the nominal optimum is lower, the robust one still below the baseline
+  CHECK(b.nominalObjective < r.opt.best.objective);
+  CHECK(r.opt.best.objective < 0.9 * r.opt.initial.objective);
+  CHECK(b.nominalViolated > 0);
+  CHECK(b.nominalWorst == "stroke_margin_min@cert-reserve@cold-lowcharge-lowoil-largeorifice");
+  bool cold = false;
+  for (const auto& a : b.active) cold = cold || (a.caseName == "cert-reserve" && a.corner == "cold-lowcharge-lowoil-largeorifice");
+  CHECK(cold);
+  const std::string report = readFile(fs::path(o.outDir) / "report.md");
+  CHECK(report.find("**Price of robustness:**") != std::string::npos);
+  CHECK(readFile(fs::path(o.outDir) / "result.json").find("\"robustness\": {\"points\": 17") != std::string::npos);
+  CHECK(fs::exists(fs::path(o.outDir) / "nominal" / "history.csv"));
+  const fs::path cert = fs::path(o.outDir) / "certify";
+  const std::string cmd = std::string(LG_BIN_DIR) + "/certify '" + (fs::path(o.outDir) / "best.toml").string() +
+                          "' --out '" + cert.string() + "' --quiet";
+  const int rc = std::system(cmd.c_str());
+  REQUIRE(WIFEXITED(rc));
+  CHECK(WEXITSTATUS(rc) == 0);
+  CHECK(readFile(cert / "compliance.md").find("**Verdict over the envelope: PASS**") != std::string::npos);
+  std::printf("robust main study: %d evaluations, limit-case peak %.1f N (nominal study %.1f N, price %.2f %%)\n",
+              r.opt.evaluations, r.opt.best.objective, b.nominalObjective,
+              100 * (r.opt.best.objective - b.nominalObjective) / b.nominalObjective);
 }

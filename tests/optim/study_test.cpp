@@ -113,8 +113,51 @@ TEST_CASE("study: a valid file parses with defaults from the scene", "[optim][st
 
 // The shipped main study: the matrix's limit cases are the objective, its reserve case and limits
 // constrain the design, the scene's own cases are checks.
-TEST_CASE("study: the main study is constrained by the certification matrix", "[optim][study]") {
+// The robust main study: its three matrix cases at the nominal point and the 16 corners of the envelope
+// ("<case>@<corner>"), the objective cases' corner copies constraining, every limit at every point; the
+// checks at every point too.
+TEST_CASE("study: the robust main study runs every matrix case at every corner of the envelope", "[optim][study][envelope]") {
   const Study s = loadStudy(std::string(LG_SOURCE_DIR) + "/studies/seed_gear_min_peak.cfg");
+  REQUIRE(s.corners.size() == 17);
+  CHECK(s.envelope.constraintsAtCorners);
+  CHECK_FALSE(s.envelope.objectiveWorst);
+  REQUIRE(s.steeringCases() == 51);
+  CHECK(s.cases[0].dropCase.name == "cert-limit-landing");
+  CHECK(s.cases[0].role == CaseRole::Objective);
+  CHECK(s.cases[0].corner == "nominal");
+  CHECK(s.cases[1].dropCase.name == "cert-limit-landing@cold-lowcharge-lowoil-smallorifice");
+  CHECK(s.cases[1].role == CaseRole::Constraint);
+  CHECK(s.cases[1].baseRole == CaseRole::Objective);
+  CHECK(s.cases[1].dropCase.corner->at.temperature == Approx(233.15).epsilon(1e-15));
+  int objective = 0;
+  for (const auto& c : s.cases) objective += c.role == CaseRole::Objective ? 1 : 0;
+  CHECK(objective == 2);  // the two limit drops, nominal
+  CHECK(s.cases.size() == 51 + 5 * 17);
+  CHECK(s.items.size() == 153);
+  bool found = false;
+  for (const auto& it : s.items) found = found || it.name == "stroke_margin_min@cert-reserve@cold-lowcharge-lowoil-largeorifice";
+  CHECK(found);
+  // a robust design cannot choose its servicing; a worst-corner objective needs aggregate "worst"
+  const std::string head = "scene = \"" + std::string(LG_SOURCE_DIR) + "/data/seed_gear.toml\"\n";
+  CHECK_THROWS_WITH(parseStudy(head + "[[variable]]\npath = \"envelope.charge\"\nlower = -0.1\nupper = 0.1\n"
+                               "[[case]]\nname = \"limit\"\n[envelope]\nconstraints = \"corners\"\n[algorithm]\nmaxeval = 5\n",
+                               "s.cfg"),
+                    Catch::Contains("a robust design cannot choose its servicing"));
+  CHECK_THROWS_WITH(parseStudy(head + "[[variable]]\npath = \"strut.f1\"\nlower = 3e-5\nupper = 1.6e-4\n"
+                               "[[case]]\nname = \"limit\"\n[objective]\naggregate = \"weighted_sum\"\n"
+                               "[envelope]\nobjective = \"worst\"\n[algorithm]\nmaxeval = 5\n",
+                               "s.cfg"),
+                    Catch::Contains("needs [objective] aggregate = \"worst\""));
+  CHECK_THROWS_WITH(parseStudy(head + "[[variable]]\npath = \"strut.f1\"\nlower = 3e-5\nupper = 1.6e-4\n"
+                               "[[case]]\nname = \"limit\"\n[envelope]\nconstraints = \"every\"\n[algorithm]\nmaxeval = 5\n",
+                               "s.cfg"),
+                    Catch::Contains("s.cfg:9: key 'envelope.constraints': value 'every' must be \"corners\" or \"nominal\""));
+}
+
+TEST_CASE("study: the main study is constrained by the certification matrix", "[optim][study]") {
+  std::string text = lgtest::readFile(std::string(LG_SOURCE_DIR) + "/studies/seed_gear_min_peak_nominal.cfg");
+  text.replace(text.find("constraints = \"nominal\""), 23, "constraints = \"nominal\"\nchecks = \"nominal\"");
+  const Study s = parseStudy(text, "nominal.cfg", std::string(LG_SOURCE_DIR) + "/studies");
   REQUIRE(s.certification);
   CHECK(s.certification->basisName == "part25");
   CHECK(s.certificationRole == CaseRole::Constraint);
