@@ -204,3 +204,39 @@ TEST_CASE("certify: exit 0 when the matrix passes, 1 when a case fails, 2 on bad
     }
   }
 }
+
+// certify over the seed gear's envelope: every case at the nominal point and its 16 corners, the same
+// bytes on 1 and 2 threads; the worst corner of the reserve drop's stroke margin named; --nominal runs
+// the nominal point alone. The README's example output is this run's.
+TEST_CASE("certify: the envelope's every corner, the worst named, the same bytes on 1 and 2 threads",
+          "[certification][envelope]") {
+  const lgtest::TempDir dir("certify_envelope");
+  const std::string scene = lgtest::sourcePath("data/seed_gear.toml");
+  REQUIRE(certify(q(scene) + " --out " + q(dir / "t1") + " --threads 1", dir / "err1.txt") == 0);
+  REQUIRE(certify(q(scene) + " --out " + q(dir / "t2") + " --threads 2", dir / "err2.txt") == 0);
+  const std::string j1 = lgtest::readFile(dir / "t1/compliance.json"), j2 = lgtest::readFile(dir / "t2/compliance.json");
+  CHECK(j1 == j2);
+  CHECK(lgtest::readFile(dir / "t1/compliance.md") == lgtest::readFile(dir / "t2/compliance.md"));
+  CHECK(j1.find("\"drops\": 136") != std::string::npos);
+  CHECK(j1.find("\"name\": \"cold-lowcharge-lowoil-largeorifice\", \"temperature_C\": -40") != std::string::npos);
+  CHECK(j1.find("{\"metric\": \"stroke_margin\", \"relation\": \">=\", \"limit\": 0.01, \"unit\": \"m\", \"worst_corner\": "
+                "\"cold-lowcharge-lowoil-largeorifice\", \"value\": 0.0164") != std::string::npos);
+  // --nominal: no envelope section
+  REQUIRE(certify(q(scene) + " --nominal --out " + q(dir / "n"), dir / "err3.txt") == 0);
+  CHECK(lgtest::readFile(dir / "n/compliance.json").find("\"envelope\"") == std::string::npos);
+  // the README's example: the terminal lines of this run (the wall time aside)
+  const std::string cmd = "'" + lgtest::binPath("certify") + "' " + q(scene) + " --out " + q(dir / "t3") + " --threads 2 > " +
+                          q(dir / "out.txt");
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  const std::string readme = lgtest::readFile(lgtest::sourcePath("README.md"));
+  std::istringstream out(lgtest::readFile(dir / "out.txt"));
+  int lines = 0;
+  for (std::string line; std::getline(out, line);) {
+    if (line.rfind("wrote ", 0) == 0) continue;  // (the output folder differs)
+    if (line.rfind("envelope: 17 points", 0) == 0) line = line.substr(0, line.find(" in "));  // (wall time)
+    INFO(line);
+    CHECK(readme.find(line) != std::string::npos);
+    ++lines;
+  }
+  CHECK(lines == 15);
+}

@@ -4,7 +4,9 @@
 #include "bad_input_support.hpp"  // sim headers, then Catch (see there)
 
 #include <cstring>
+#include <set>
 
+#include "sim/io/overrides.hpp"
 #include "sim/parameters.hpp"
 
 namespace {
@@ -125,7 +127,7 @@ TEST_CASE("envelope: the gas law and the tolerances at every corner, one and two
   }
 }
 
-TEST_CASE("envelope: the nominal point runs the same bits as the scene without one; a corner as its values by hand",
+TEST_CASE("envelope: the nominal point runs the same bits as the scene without one, and a corner as its values by hand",
           "[envelope]") {
   const lg::Scene with = seed(), without = withEnvelope("");
   REQUIRE_FALSE(without.envelope.declared);
