@@ -42,6 +42,11 @@ std::string drawPictures(const lg::Scene& scene, const lg::Certification& spec, 
   lg::prepareOutputDir(pd.string());
   const bool gp = lg::haveGnuplot();
   if (!gp) pictures = "gnuplot was not found: the data and scripts are in `plots/` (run `gnuplot <case>.gp` there).\n";
+  if (c.servicing && c.servicing->ok) {
+    std::string why;
+    if (lg::drawServicingChart(*c.servicing, pd.string(), "servicing_chart", gp, &why)) pictures += "![servicing chart](plots/servicing_chart.png)\n\n";
+    else if (gp) pictures += "Servicing chart missing: " + why + "\n\n";
+  }
   std::vector<const lg::CaseVerdict*> all;
   for (const auto& v : c.cases) all.push_back(&v);
   for (const auto& v : c.checks) all.push_back(&v);
@@ -107,7 +112,9 @@ int main(int argc, char** argv) {
   opt.stop = [] { return lg::cli::interrupted(); };
   std::vector<lg::CaseResult> runs;
   const auto start = std::chrono::steady_clock::now();
-  const lg::Compliance c = lg::assessCompliance(scene, *spec, threads, opt, &runs, !nominal);
+  lg::Compliance c = lg::assessCompliance(scene, *spec, threads, opt, &runs, !nominal);
+  if (!lg::cli::interrupted() && !scene.roles.struts.empty())
+    c.servicing = lg::servicingCurve(scene, spec->landingMass > 0 ? spec->landingMass : lg::caseMass(scene, lg::DropCase{}));
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (lg::cli::interrupted()) {
     std::cerr << "interrupted: nothing written\n";
@@ -116,6 +123,10 @@ int main(int argc, char** argv) {
   try {
     const std::string pictures =
         plots ? drawPictures(scene, *spec, c, runs, outDir) : "Not drawn: run `certify` with `--plots`.\n";
+    if (c.servicing && c.servicing->ok) {
+      lg::writeFileAtomic((fs::path(outDir) / "static_curve.csv").string(), lg::staticCurveCsv(*c.servicing));
+      lg::writeFileAtomic((fs::path(outDir) / "servicing_chart.csv").string(), lg::servicingChartCsv(*c.servicing));
+    }
     lg::writeFileAtomic((fs::path(outDir) / "compliance.json").string(), lg::complianceJson(c));
     lg::writeFileAtomic((fs::path(outDir) / "compliance.md").string(), lg::complianceMarkdown(c, pictures));
   } catch (const std::exception& e) {

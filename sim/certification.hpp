@@ -26,6 +26,7 @@
 // n_g >= 2.0 are reported for the unit.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,7 @@
 
 #include "sim/drop_test.hpp"
 #include "sim/metrics.hpp"
+#include "sim/servicing.hpp"
 
 namespace lg {
 
@@ -164,6 +166,9 @@ struct Compliance {
   bool nominalPass = false;                   // every matrix case passes at the nominal point
   long drops = 0;                             // runs of the engine (cases x points; reruns of --accuracy not counted)
   long rhsEvaluations = 0;                    // their right-hand-side evaluations, all together
+  // The strut at rest and its servicing chart (sim/servicing.hpp) at the matrix's landing mass; absent
+  // where not computed.
+  std::optional<ServicingCurve> servicing;
 };
 
 // The unit items of a certification.

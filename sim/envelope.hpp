@@ -97,6 +97,7 @@ struct Envelope {
   double oilLevelTolerance = 0;   // [m^3] +- absolute, oil volume (either this or gasVolumeTolerance)
   double orificeTolerance = 0;    // [-] +- relative, every orifice area
   double tyreStiffnessTolerance = 0;  // [-] +- relative, every tyre's K
+  double staticExponent = 1;      // [-] n_s of the strut at rest (the static curve, the servicing chart): 1 isothermal
   EnvelopePoint<double> point;    // where the scene's plain runs sit (default: nominal)
   std::vector<EnvelopeCorner> declaredCorners;  // [[envelope.corner]]: the corners instead of the factorial
 

@@ -1,10 +1,13 @@
 // compliance.json, compliance.md and the terminal summary of `certify` (compliance.hpp).
 #include "sim/io/compliance.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
+#include "sim/io/files.hpp"
 #include "sim/io/json.hpp"
 #include "sim/io/plots.hpp"
 #include "sim/metrics.hpp"
@@ -232,6 +235,65 @@ std::string envelopeMarkdown(const Compliance& c) {
   return o.str();
 }
 
+std::string celsius(double K) { return sig(K - kZeroCelsius, 4) + " C"; }
+
+std::string servicingJson(const ServicingCurve& c) {
+  std::ostringstream o;
+  o << "  \"servicing\": {\"ok\": " << jsonBool(c.ok) << ", \"message\": " << jsonString(c.message)
+    << ", \"strut\": " << jsonString(c.strut) << ", \"static_exponent\": " << jsonNumber(c.staticExponent)
+    << ", \"service_temperature_C\": " << jsonNumber(c.serviceTemperature - kZeroCelsius) << ", \"mass_kg\": "
+    << jsonNumber(c.mass) << ", \"stroke_limit_m\": " << jsonNumber(c.strokeLimit) << ", \"static_stroke_m\": "
+    << jsonNumber(c.staticStroke) << ", \"static_force_N\": " << jsonNumber(c.staticForce) << ", \"static_ratio\": "
+    << jsonNumber(c.staticRatio) << ", \"compression_ratio_extended_static\": " << jsonNumber(c.extendedToStatic)
+    << ", \"compression_ratio_static_compressed\": " << jsonNumber(c.staticToCompressed) << ",\n    \"chart\": [";
+  for (size_t k = 0; k < c.chart.size(); ++k)
+    o << (k ? ", " : "") << "{\"ambient_C\": " << jsonNumber(c.chart[k].temperature - kZeroCelsius)
+      << ", \"static_extension_m\": " << jsonNumber(c.chart[k].staticExtension) << ", \"static_pressure_Pa\": "
+      << jsonNumber(c.chart[k].staticPressure) << "}";
+  o << "]},\n";
+  return o.str();
+}
+
+std::string servicingMarkdown(const ServicingCurve& c) {
+  std::ostringstream o;
+  o << "\n## The strut at rest and its servicing chart\n\n";
+  if (!c.ok) {
+    o << "Not computed: " << c.message << ".\n";
+    return o.str();
+  }
+  o << "Strut `" << c.strut << "`, the gas at rest with the static exponent n_s = " << sig(c.staticExponent, 4)
+    << (c.staticExponent == 1 ? " (isothermal)" : "") << ", charged at " << celsius(c.serviceTemperature)
+    << "; no orifice force, no friction (a real strut rests within its friction band around this point). The ground load W g "
+       "of W = "
+    << sig(c.mass, 6) << " kg passes through the gear's kinematic ratio r = dg/ds (g: the gear's shortening, measured on a "
+                         "drop of this scene): P_a(s) = W g r(s). Files: `static_curve.csv`, `servicing_chart.csv`.\n\n";
+  o << "| static stroke at 1 g [m] | P_a there [N] | r there | compression ratio extended / static | static / compressed |\n"
+       "|---|---|---|---|---|\n| "
+    << fixed(c.staticStroke, 4) << " | " << fixed(c.staticForce, 0) << " | " << fixed(c.staticRatio, 3) << " | "
+    << fixed(c.extendedToStatic, 3) << " | " << fixed(c.staticToCompressed, 3) << " |\n\n";
+  o << "Servicing chart: the gauge pressure [MPa] a correctly charged strut shows at its extension (the stroke left to the "
+       "bottoming stop) at the ambient temperature";
+  if (c.chargeTolerance > 0) o << ", with the +-" << sig(100 * c.chargeTolerance, 3) << " % charge tolerance as low / high";
+  o << "; the static point at W g marked *.\n\n| extension [m] |";
+  for (const auto& ch : c.chart) o << " " << celsius(ch.temperature) << " |";
+  o << "\n|---|";
+  for (size_t k = 0; k < c.chart.size(); ++k) o << "---|";
+  o << "\n";
+  for (size_t i = 0; i < c.extension.size(); i += 4) {
+    o << "| " << fixed(c.extension[i], 3) << " |";
+    for (const auto& ch : c.chart) {
+      o << " " << fixed(ch.pressure[i] / 1e6, 2);
+      if (c.chargeTolerance > 0) o << " (" << fixed(ch.low[i] / 1e6, 2) << " .. " << fixed(ch.high[i] / 1e6, 2) << ")";
+      o << " |";
+    }
+    o << "\n";
+  }
+  o << "| static point * |";
+  for (const auto& ch : c.chart) o << " " << fixed(ch.staticExtension, 4) << " m, " << fixed(ch.staticPressure / 1e6, 2) << " MPa |";
+  o << "\n";
+  return o.str();
+}
+
 const char* kTableHead =
     "| case | kind | V [m/s] | L | W [kg] | E to absorb [kJ] | absorbed [kJ] | n_g | n | stroke / limit [m] | "
     "tyre / limit [m] | eta | verdict |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
@@ -261,6 +323,7 @@ std::string complianceJson(const Compliance& c) {
   }
   o << "],\n";
   if (c.envelope) o << envelopeJson(c);
+  if (c.servicing) o << servicingJson(*c.servicing);
   o << "  \"cases\": [\n";
   for (size_t i = 0; i < c.cases.size(); ++i) o << "    " << verdictJson(c.cases[i]) << (i + 1 < c.cases.size() ? ",\n" : "\n");
   o << "  ],\n  \"checks\": [\n";
@@ -314,6 +377,7 @@ std::string complianceMarkdown(const Compliance& c, const std::string& pictures)
     for (const auto& v : c.checks) o << row(v, &s);
   }
   if (c.envelope) o << envelopeMarkdown(c);
+  if (c.servicing) o << servicingMarkdown(*c.servicing);
   o << "\n## Pictures" << (c.envelope ? " (the nominal point)" : "") << "\n\n" << pictures << "\n";
   return o.str();
 }
@@ -356,6 +420,64 @@ std::string complianceSummary(const Compliance& c) {
                                              : "; some of the scene's own cases exceed a limit (checks, not the verdict)")
     << "\n";
   return o.str();
+}
+
+std::string staticCurveCsv(const ServicingCurve& c) {
+  std::ostringstream o;
+  o << "s[m],p_1[Pa],P_a[N],r[-]\n";
+  for (size_t i = 0; i < c.stroke.size(); ++i)
+    o << sig(c.stroke[i], 10) << "," << sig(c.pressure[i], 10) << "," << sig(c.force[i], 10) << ","
+      << (std::isfinite(c.ratio[i]) ? sig(c.ratio[i], 10) : std::string()) << "\n";
+  return o.str();
+}
+
+std::string servicingChartCsv(const ServicingCurve& c) {
+  std::ostringstream o;
+  o << "extension[m]";
+  for (const auto& ch : c.chart) {
+    const std::string t = sig(ch.temperature - kZeroCelsius, 4) + "C";
+    o << ",p_" << t << "[Pa],p_" << t << "_low[Pa],p_" << t << "_high[Pa]";
+  }
+  o << "\n";
+  for (size_t i = 0; i < c.extension.size(); ++i) {
+    o << sig(c.extension[i], 10);
+    for (const auto& ch : c.chart) o << "," << sig(ch.pressure[i], 10) << "," << sig(ch.low[i], 10) << "," << sig(ch.high[i], 10);
+    o << "\n";
+  }
+  return o.str();
+}
+
+bool drawServicingChart(const ServicingCurve& c, const std::string& dir, const std::string& stem, bool run, std::string* why) {
+  namespace fs = std::filesystem;
+  std::ostringstream d, g;
+  for (size_t i = 0; i < c.extension.size(); ++i) {
+    d << sig(c.extension[i], 10);
+    for (const auto& ch : c.chart) d << " " << sig(ch.pressure[i] / 1e6, 10) << " " << sig(ch.low[i] / 1e6, 10) << " "
+                                     << sig(ch.high[i] / 1e6, 10);
+    d << "\n";
+  }
+  d << "\n\n";  // block 1: the static points
+  for (const auto& ch : c.chart) d << sig(ch.staticExtension, 10) << " " << sig(ch.staticPressure / 1e6, 10) << "\n";
+  writeFileAtomic((fs::path(dir) / (stem + ".dat")).string(), d.str());
+  g << "set terminal pngcairo size 900,600\nset output " << gnuplotQuoted(stem + ".png") << "\n";
+  double top = 0;  // the static points' range, not the bottoming end's steep rise
+  for (const auto& ch : c.chart) top = std::max(top, std::isfinite(ch.staticPressure) ? ch.staticPressure / 1e6 : 0.0);
+  if (top > 0) g << "set yrange [0:" << sig(2.5 * top, 4) << "]\n";
+  g << "set title " << gnuplotQuoted("Servicing chart, strut '" + c.strut + "': gauge pressure at the extension, W = " +
+                                     sig(c.mass, 6) + " kg, n_s = " + sig(c.staticExponent, 3))
+    << "\nset xlabel 'extension (stroke left to the bottoming stop) [m]'\nset ylabel 'gauge pressure [MPa]'\n"
+       "set key top right\nset grid\n";
+  g << "plot ";
+  for (size_t k = 0; k < c.chart.size(); ++k) {
+    const int col = 2 + 3 * static_cast<int>(k);
+    g << (k ? ", \\\n     " : "") << gnuplotQuoted(stem + ".dat") << " index 0 using 1:" << col + 1 << ":" << col + 2
+      << " with filledcurves fs transparent solid 0.15 lc " << k + 1 << " notitle, \\\n     " << gnuplotQuoted(stem + ".dat")
+      << " index 0 using 1:" << col << " with lines lw 2 lc " << k + 1 << " title "
+      << gnuplotQuoted(sig(c.chart[k].temperature - kZeroCelsius, 4) + " C");
+  }
+  g << ", \\\n     " << gnuplotQuoted(stem + ".dat") << " index 1 using 1:2 with points pt 7 ps 1.5 lc rgb 'black' title 'static point (W g)'\n";
+  writeFileAtomic((fs::path(dir) / (stem + ".gp")).string(), g.str());
+  return run ? runGnuplot(dir, stem, why) : false;
 }
 
 PlotLimits compliancePlotLimits(const Scene& scene, const Certification& spec, const CaseVerdict& v) {

@@ -10,6 +10,7 @@
 //   oil_level_tolerance = 2.0e-5             # [m^3] ... or absolute, as oil volume (not both)
 //   orifice_tolerance = 0.02                 # [-] +- every orifice area, relative (smallorifice | largeorifice)
 //   tyre_stiffness_tolerance = 0.05          # [-] +- every tyre's K, relative (softtyre | stifftyre)
+//   static_exponent = 1.0                    # [-] the gas at rest: the static curve and servicing chart (1: isothermal)
 //   temperature_C = 15.0, charge = 0.0, ...  # the point of the scene's plain runs (default: nominal)
 //   [[envelope.corner]]                      # optional: the corners instead of the full factorial
 //   name = "cold-day", temperature_C = -40.0, charge = -0.05, ...
@@ -57,7 +58,8 @@ Envelope parseEnvelope(const toml::table& t, const std::string& file, const Scen
   TomlReader r(t, file, "envelope");
   r.allowOnly({"service_temperature_C", "landing_temperature_C", "oil_expansion", "oil_volume", "charge_tolerance",
                "gas_volume_tolerance", "oil_level_tolerance", "orifice_tolerance", "tyre_stiffness_tolerance",
-               "temperature_C", "charge", "gas_volume", "oil_level", "orifice", "tyre_stiffness", "corner"});
+               "temperature_C", "charge", "gas_volume", "oil_level", "orifice", "tyre_stiffness", "corner",
+               "static_exponent"});
   Envelope e;
   e.declared = true;
   e.file = file;
@@ -102,6 +104,10 @@ Envelope parseEnvelope(const toml::table& t, const std::string& file, const Scen
         r.fail("tyre_stiffness_tolerance", "tyre '" + scene.model.forces[f].name +
                                                "' is a load table, without a stiffness K to scale: leave the key out");
   }
+  e.staticExponent = r.number("static_exponent", 1.0);
+  if (!(e.staticExponent >= 1 && e.staticExponent <= 5.0 / 3.0))
+    r.fail("static_exponent", "value " + fmt(e.staticExponent) + " must lie in [1, 5/3]: 1 for isothermal (the gas at rest at "
+                              "the ambient temperature), up to the adiabatic exponent");
   e.point = e.nominal();
   readPoint(r, e.point);
   if (r.has("tyre_stiffness") && scene.roles.tyres.empty()) r.fail("tyre_stiffness", "the scene has no tyre");
