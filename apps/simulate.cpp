@@ -1,7 +1,7 @@
 // simulate SCENE [--case NAME]... [--out DIR] [--plots] [--threads N] [--integrator NAME] [--rtol X]
 //          [--atol X] [--step H] [--set PATH=VALUE]... [--sink-speeds LIST] [--lift-ratios LIST]
-//          [--duration T] [--output-interval DT] [--accuracy A] [--gradient PATHS] [--work-precision]
-//          [--quiet]
+//          [--duration T] [--output-interval DT] [--accuracy A] [--gradient PATHS] [--corner NAME]...
+//          [--work-precision] [--quiet]
 // Runs drop cases of a scene and writes DIR/<case>.csv, DIR/summary.json, DIR/summary.csv (and plots);
 // or, with --work-precision, the error of every integrator over a range of tolerances against the
 // scene's own tight run (DIR/work_precision.csv and, with --plots, DIR/work_precision_<case>.png).
@@ -32,13 +32,15 @@ namespace {
 
 struct Options {
   std::string scene, outDir = "out", integrator, sinkSpeeds, liftRatios;
-  std::vector<std::string> cases, sets, gradient;
+  std::vector<std::string> cases, sets, gradient, corners;
   bool plots = false, quiet = false, workPrecision = false;
   int threads = 0;
   double rtol = 0, atol = 0, step = 0, duration = 0.8, outputInterval = 0, accuracy = 0;
 };
 
 // The scene with the command line's overrides and the cases to run; throws lg::InputError.
+std::vector<lg::DropCase> atCorners(const Options& o, const lg::Scene& scene, const std::vector<lg::DropCase>& cases);
+
 lg::Scene loadInputs(const Options& o, const CLI::App& app, std::vector<lg::DropCase>& cases) {
   std::vector<lg::ParameterOverride> sets;
   for (const auto& s : o.sets) sets.push_back(lg::parseOverride(s));
@@ -105,7 +107,41 @@ lg::Scene loadInputs(const Options& o, const CLI::App& app, std::vector<lg::Drop
     }
   }
   if (cases.empty()) throw lg::InputError(o.scene, 0, "case", "the scene declares no [[case]] to run");
+  if (!o.corners.empty()) cases = atCorners(o, scene, cases);
   return scene;
+}
+
+// Each case at each corner of --corner (a name of the scene's envelope, or "all": the nominal point and
+// every corner), named "<case>@<corner>"; throws lg::InputError.
+std::vector<lg::DropCase> atCorners(const Options& o, const lg::Scene& scene, const std::vector<lg::DropCase>& cases) {
+  if (!scene.envelope.declared)
+    throw lg::InputError("command line", 0, "--corner", "the scene has no [envelope] table (README, \"The servicing and "
+                                                        "temperature envelope\")");
+  const std::vector<lg::EnvelopeCorner> all = scene.envelope.corners();
+  std::vector<lg::EnvelopeCorner> chosen;
+  for (const std::string& name : o.corners) {
+    if (name == "all") {
+      chosen.insert(chosen.end(), all.begin(), all.end());
+      continue;
+    }
+    auto it = std::find_if(all.begin(), all.end(), [&](const auto& c) { return c.name == name; });
+    if (it == all.end()) {
+      std::string known;
+      for (const auto& c : all) known += (known.empty() ? "" : ", ") + c.name;
+      throw lg::InputError("command line", 0, "--corner",
+                           "value '" + name.substr(0, 80) + "' is no point of the scene's envelope (" + known + ", or all)");
+    }
+    chosen.push_back(*it);
+  }
+  std::vector<lg::DropCase> out;
+  for (const auto& c : cases)
+    for (const auto& k : chosen) {
+      lg::DropCase d = c;
+      d.corner = k;
+      d.name += "@" + k.name;
+      if (std::none_of(out.begin(), out.end(), [&](const auto& e) { return e.name == d.name; })) out.push_back(d);
+    }
+  return out;
 }
 
 // The parameters of --gradient, resolved in the scene (after --set); throws lg::InputError.
@@ -257,6 +293,8 @@ void addOptions(CLI::App& app, Options& o) {
                                            "(exact, forward mode): into summary.json and gradient.csv");
   app.add_option("--accuracy", o.accuracy,
                  "relative accuracy of the reported metrics (1e-5 .. 1e-1): chooses integrator and tolerances");
+  app.add_option("--corner", o.corners, "run each case at this point of the scene's [envelope] (repeatable; \"all\": "
+                                       "the nominal point and every corner), named <case>@<corner>");
   app.add_flag("--work-precision", o.workPrecision,
                "run every integrator over a range of tolerances against the scene's own tight run; write the table "
                "(and with --plots the pictures) of error against time per drop (one core)");

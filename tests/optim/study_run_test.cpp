@@ -12,6 +12,7 @@
 #include "optim/evaluator.hpp"
 #include "optim/report.hpp"
 #include "optim/study.hpp"
+#include "sim/drop_gradient.hpp"
 
 #include "files_support.hpp"  // TempDir, readFile, writeFile
 
@@ -353,4 +354,42 @@ TEST_CASE("study run: the robust main study holds its limits at every corner and
   std::printf("robust main study: %d evaluations, limit-case peak %.1f N (nominal study %.1f N, price %.2f %%)\n",
               r.opt.evaluations, r.opt.best.objective, b.nominalObjective,
               100 * (r.opt.best.objective - b.nominalObjective) / b.nominalObjective);
+}
+
+// A robust design's evaluation: the same bits on 1 and 2 threads over its 51 cases x corners; its exact
+// derivatives are each corner's (the cornered case's own derivatives, sign and all, for every constraint).
+TEST_CASE("study run: a robust design evaluates to the same bits on 1 and 2 threads, its derivatives per corner",
+          "[optim][seed][envelope]") {
+  const Study s = loadStudy(std::string(LG_SOURCE_DIR) + "/studies/seed_gear_min_peak.cfg");
+  std::vector<double> x;
+  for (const auto& v : s.variables) x.push_back(v.initial);
+  EvaluatorOptions o1, o2;
+  o1.threads = 1;
+  o2.threads = 2;
+  const Evaluation e1 = evaluateDesign(s, x, o1), e2 = evaluateDesign(s, x, o2);
+  REQUIRE(e1.ok);
+  REQUIRE(e2.ok);
+  REQUIRE(e1.constraints.size() == 153);
+  CHECK(sameBits(e1.objective, e2.objective));
+  for (size_t k = 0; k < e1.constraints.size(); ++k) CHECK(sameBits(e1.constraints[k], e2.constraints[k]));
+  for (size_t i = 0; i < e1.cases.size(); ++i) requireSameMetrics(e1.cases[i], e2.cases[i]);
+  const Evaluation g = evaluateDesignGradient(s, x, o2);
+  REQUIRE(g.ok);
+  REQUIRE(g.hasGradient);
+  size_t k = 0;
+  for (; k < s.items.size(); ++k)
+    if (s.items[k].name == "stroke_margin_min@cert-reserve@cold-lowcharge-lowoil-largeorifice") break;
+  REQUIRE(k < s.items.size());
+  const StudyCase& c = s.cases[s.items[k].caseIndex];
+  REQUIRE(c.dropCase.corner);
+  const lg::CaseGradient cg = lg::caseGradient(s.scene, designCases(s, s.scene, false)[s.items[k].caseIndex], s.parameters);
+  REQUIRE(cg.ok);
+  const std::vector<double>& d = cg.find("stroke_margin")->d;
+  for (size_t j = 0; j < x.size(); ++j) CHECK(g.constraintGradients[k][j] == -d[j]);
+  // and the derivative in the corner's own direction is not the nominal one's
+  size_t n = 0;
+  for (; n < s.items.size(); ++n)
+    if (s.items[n].name == "stroke_margin_min@cert-reserve") break;
+  REQUIRE(n < s.items.size());
+  CHECK(g.constraintGradients[n][0] != g.constraintGradients[k][0]);
 }

@@ -213,3 +213,40 @@ TEST_CASE("envelope: bad [envelope] values name file, line, key and rule", "[env
   };
   lgtest::checkBadInputs(bad, dir);
 }
+
+// simulate --corner: each case at the named points, "<case>@<corner>" in every output (the file names
+// made safe); an unknown corner and a scene without an envelope are refused (exit 2, nothing written).
+TEST_CASE("envelope: simulate --corner runs the cases at points of the envelope", "[envelope][cli]") {
+  const lgtest::TempDir dir("envelope_cli");
+  const std::string scene = lgtest::sourcePath("data/seed_gear.toml");
+  auto simulate = [&](const std::string& args) {
+    const std::string cmd = "'" + lgtest::binPath("simulate") + "' '" + scene + "' " + args + " --quiet 2>'" +
+                            (dir / "err.txt") + "' >/dev/null";
+    const int st = std::system(cmd.c_str());
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  };
+  REQUIRE(simulate("--case reserve --corner nominal --corner cold-lowcharge-lowoil-largeorifice --out '" + (dir / "a") + "'") == 0);
+  const std::string summary = lgtest::readFile(dir / "a/summary.csv");
+  CHECK(summary.find("\nreserve@nominal,1,") != std::string::npos);
+  CHECK(summary.find("\nreserve@cold-lowcharge-lowoil-largeorifice,1,") != std::string::npos);
+  CHECK(std::filesystem::exists(dir / "a/reserve_cold-lowcharge-lowoil-largeorifice.csv"));
+  // the nominal point is the scene's own run, to the bit; the corner is --set's at the same values
+  REQUIRE(simulate("--case reserve --out '" + (dir / "b") + "'") == 0);
+  REQUIRE(simulate("--case reserve --set envelope.temperature_C=-40 --set envelope.charge=-0.05 --set envelope.gas_volume=0.01 "
+                   "--set envelope.orifice=0.02 --out '" + (dir / "c") + "'") == 0);
+  auto row = [](const std::string& csv, const std::string& name) {
+    const auto at = csv.find("\n" + name + ",");
+    REQUIRE(at != std::string::npos);
+    const auto start = csv.find(',', at + 1), end = csv.find('\n', at + 1);
+    std::string r = csv.substr(start, end - start);
+    return r.substr(0, r.rfind(','));  // (the wall time last)
+  };
+  CHECK(row(summary, "reserve@nominal") == row(lgtest::readFile(dir / "b/summary.csv"), "reserve"));
+  CHECK(row(summary, "reserve@cold-lowcharge-lowoil-largeorifice") == row(lgtest::readFile(dir / "c/summary.csv"), "reserve"));
+  REQUIRE(simulate("--corner all --case limit --out '" + (dir / "d") + "'") == 0);
+  const std::string all = lgtest::readFile(dir / "d/summary.csv");
+  CHECK(std::count(all.begin(), all.end(), '\n') == 1 + 17);
+  CHECK(simulate("--corner freezing --out '" + (dir / "e") + "'") == 2);
+  CHECK(lgtest::readFile(dir / "err.txt").find("error: command line: key '--corner': value 'freezing' is no point") == 0);
+  CHECK_FALSE(std::filesystem::exists(dir / "e"));
+}

@@ -73,3 +73,26 @@ TEST_CASE("servicing: the telescopic gear's ratio is 1 and its static stroke at 
   std::printf("servicing: telescopic gear, static stroke %.6f m at W = %.0f kg (by hand %.6f m)\n", c.staticStroke, W, s);
   REQUIRE(c.chart.size() == 1);  // no envelope: the service temperature only
 }
+
+// The README's figures for the seed gear ("The servicing chart") are this computation's.
+TEST_CASE("servicing: the seed gear's static point and chart as the README gives them", "[servicing][readme]") {
+  const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/seed_gear.toml"));
+  const lg::ServicingCurve c = lg::servicingCurve(sc, 4050.0);
+  REQUIRE(c.ok);
+  char b[400];
+  std::snprintf(b, sizeof b,
+                "static stroke %.4f m of 0.16 m, P_a %.1f kN (r = %.2f), compression ratios %.2f and %.2f", c.staticStroke,
+                c.staticForce / 1e3, c.staticRatio, c.extendedToStatic, c.staticToCompressed);
+  const std::string readme = lgtest::readFile(lgtest::sourcePath("README.md"));
+  INFO(b);
+  CHECK(readme.find(b) != std::string::npos);
+  REQUIRE(c.chart.size() == 5);
+  std::snprintf(b, sizeof b, "at 15 C the strut shows %.2f MPa\nat an extension of %.3f m", c.chart[2].staticPressure / 1e6,
+                c.chart[2].staticExtension);
+  std::string wanted = b;
+  INFO(wanted);
+  CHECK(readme.find(wanted) != std::string::npos);
+  // the trailing link carries the ground load to the strut through a lever ratio between 2 and 3 there
+  CHECK(c.staticRatio > 2.0);
+  CHECK(c.staticRatio < 3.0);
+}
