@@ -96,9 +96,9 @@ int main(int argc, char** argv) {
                   study.envelope.checksAtCorners ? "at every point" : "at the nominal point");
     if (const auto& b = res.robustness; b.robust) {
       if (b.nominalRun)
-        std::printf("  price of robustness: the nominal study's optimum %.6g -> %.6g (%+.3g %%); it breaks %d constraints "
-                    "at the corners, most %s\n",
-                    b.nominalObjective, o.best.objective, 100 * (o.best.objective - b.nominalObjective) / b.nominalObjective,
+        std::printf("  price of robustness: the nominal study's optimum %.6g -> %.6g at the nominal point (%+.3g %%); it "
+                    "breaks %d constraints at the corners, most %s\n",
+                    b.nominalObjective, b.atNominal, 100 * (b.atNominal - b.nominalObjective) / b.nominalObjective,
                     b.nominalViolated, b.nominalWorst.empty() ? "none" : b.nominalWorst.c_str());
       for (const auto& a : b.active) std::printf("  active: %s (g = %.3g)\n", a.constraint.c_str(), a.g);
     }

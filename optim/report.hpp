@@ -42,6 +42,8 @@ struct Robustness {
     double g = 0;                  // [metric's unit] g_j at the best design (<= 0 holds)
   };
   std::vector<Active> active;      // the constraints within 1e-3 of their scale of binding at the best design
+  double atNominal = std::numeric_limits<double>::quiet_NaN();  // the robust optimum's objective at the nominal
+                                   // point (its objective where the study's is the worst corner's)
   bool nominalRun = false;         // the nominal variant was run (nominal_study)
   double nominalObjective = std::numeric_limits<double>::quiet_NaN();  // its optimum's objective
   bool nominalFeasible = false;
