@@ -351,6 +351,17 @@ TEST_CASE("study run: the robust main study holds its limits at every corner and
   REQUIRE(WIFEXITED(rc));
   CHECK(WEXITSTATUS(rc) == 0);
   CHECK(readFile(cert / "compliance.md").find("**Verdict over the envelope: PASS**") != std::string::npos);
+  // the README's example output of the main job is this run's
+  const std::string readme = readFile(fs::path(LG_SOURCE_DIR) / "README.md");
+  char line[400];
+  std::snprintf(line, sizeof line, "objective (min peak load, N): baseline %g -> best %g (feasible, evaluation %d)",
+                r.opt.initial.objective, r.opt.best.objective, r.opt.bestIndex);
+  CHECK(readme.find(line) != std::string::npos);
+  std::snprintf(line, sizeof line, "price of robustness: the nominal study's optimum %.6g -> %.6g at the nominal point (%+.3g %%)",
+                b.nominalObjective, b.atNominal, 100 * (b.atNominal - b.nominalObjective) / b.nominalObjective);
+  CHECK(readme.find(line) != std::string::npos);
+  std::snprintf(line, sizeof line, "converged: xtol_rel reached after %d evaluations", r.opt.evaluations);
+  CHECK(readme.find(line) != std::string::npos);
   std::printf("robust main study: %d evaluations, limit-case peak %.1f N (nominal study %.1f N, price %.2f %%)\n",
               r.opt.evaluations, r.opt.best.objective, b.nominalObjective,
               100 * (r.opt.best.objective - b.nominalObjective) / b.nominalObjective);
