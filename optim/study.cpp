@@ -97,6 +97,19 @@ std::string metricNeeds(const Scene& sc, const std::string& metric) {
   return "";
 }
 
+// An error in a study's table laid over the scene's table 'name' (merged: its nodes carry no file): named
+// at the file and line the offending key came from, the study's or the scene's ('line': the study's table).
+[[noreturn]] void rethrowFromMerged(const InputError& e, const std::string& name, const toml::table& t,
+                                    const std::string& file, int line, const Study& s) {
+  std::string key = e.key().rfind(name + ".", 0) == 0 ? e.key().substr(name.size() + 1) : e.key();
+  key = key.substr(0, key.find_first_of(".["));
+  const std::string rule = std::string(e.what()).substr(InputError::format(e.file(), e.line(), e.key(), "").size());
+  if (t.contains(key)) throw InputError(file, TomlReader(t, file, "").lineOf(key), e.key(), rule);
+  if (const toml::table* st = s.scene.doc[name].as_table(); st && st->contains(key))
+    throw InputError(s.sceneFile, TomlReader(*st, s.sceneFile, "").lineOf(key), e.key(), rule);
+  throw InputError(file, line, e.key(), rule);
+}
+
 // [certification]: the scene's table with the study's keys laid over it (role excepted).
 void parseCertificationTable(const toml::table& doc, const std::string& file, Study& s) {
   const toml::table* t = tableOf(doc, "certification", file);
@@ -118,14 +131,7 @@ void parseCertificationTable(const toml::table& doc, const std::string& file, St
   try {
     s.certification = std::make_shared<const Certification>(parseCertification(merged, file, s.scene));
   } catch (const InputError& e) {
-    // The merged table's nodes carry no lines: name the file and line the offending key came from.
-    std::string key = e.key().rfind("certification.", 0) == 0 ? e.key().substr(14) : e.key();
-    key = key.substr(0, key.find_first_of(".["));
-    const std::string rule = std::string(e.what()).substr(InputError::format(e.file(), e.line(), e.key(), "").size());
-    if (t->contains(key)) throw InputError(file, TomlReader(*t, file, "").lineOf(key), e.key(), rule);
-    if (const toml::table* st = s.scene.doc["certification"].as_table(); st && st->contains(key))
-      throw InputError(s.sceneFile, TomlReader(*st, s.sceneFile, "").lineOf(key), e.key(), rule);
-    throw InputError(file, r.line(), e.key(), rule);
+    rethrowFromMerged(e, "certification", *t, file, r.line(), s);
   }
   s.scene.doc.insert_or_assign("certification", merged);  // best.toml keeps the matrix the study used
   s.scene.certification = s.certification;
@@ -157,14 +163,7 @@ void parseEnvelopeTable(const toml::table& doc, const std::string& file, Study& 
     try {
       s.scene.envelope = parseEnvelope(merged, file, s.scene);
     } catch (const InputError& e) {
-      // The merged table's nodes carry no file: name the one the offending key came from.
-      std::string key = e.key().rfind("envelope.", 0) == 0 ? e.key().substr(9) : e.key();
-      key = key.substr(0, key.find_first_of(".["));
-      const std::string rule = std::string(e.what()).substr(InputError::format(e.file(), e.line(), e.key(), "").size());
-      if (t->contains(key)) throw InputError(file, TomlReader(*t, file, "").lineOf(key), e.key(), rule);
-      if (const toml::table* st = s.scene.doc["envelope"].as_table(); st && st->contains(key))
-        throw InputError(s.sceneFile, TomlReader(*st, s.sceneFile, "").lineOf(key), e.key(), rule);
-      throw InputError(file, r.line(), e.key(), rule);
+      rethrowFromMerged(e, "envelope", *t, file, r.line(), s);
     }
     s.scene.doc.insert_or_assign("envelope", merged);  // best.toml keeps the envelope the study used
     if (!s.scene.envelope.declared) s.envelope = EnvelopeUse{};

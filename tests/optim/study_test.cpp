@@ -162,6 +162,17 @@ TEST_CASE("study: the robust main study runs every matrix case at every corner o
                                "[[case]]\nname = \"limit\"\n[envelope]\nconstraints = \"every\"\n[algorithm]\nmaxeval = 5\n",
                                "s.cfg"),
                     Catch::Contains("s.cfg:9: key 'envelope.constraints': value 'every' must be \"corners\" or \"nominal\""));
+  // a key of the scene's envelope overridden in the study: its errors name the study's line
+  CHECK_THROWS_WITH(parseStudy(head + "[[variable]]\npath = \"strut.f1\"\nlower = 3e-5\nupper = 1.6e-4\n"
+                               "[[case]]\nname = \"limit\"\n[envelope]\ncharge_tolerance = 2.0\n[algorithm]\nmaxeval = 5\n",
+                               "s.cfg"),
+                    Catch::Contains("s.cfg:9: key 'envelope.charge_tolerance': value 2 must be below 1"));
+  // and a study's override reaches the corners: a narrower temperature range, the same 17 points
+  const Study narrow = parseStudy(head + "[[variable]]\npath = \"strut.f1\"\nlower = 3e-5\nupper = 1.6e-4\n"
+                                  "[[case]]\nname = \"limit\"\n[envelope]\nlanding_temperature_C = [-20.0, 40.0]\n"
+                                  "[algorithm]\nmaxeval = 5\n", "s.cfg");
+  REQUIRE(narrow.corners.size() == 17);
+  CHECK(narrow.corners[1].at.temperature == Approx(253.15).epsilon(1e-15));
 }
 
 TEST_CASE("study: the main study is constrained by the certification matrix", "[optim][study]") {
