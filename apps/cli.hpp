@@ -11,9 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
-#ifndef LG_VERSION
-#define LG_VERSION "unknown"
-#endif
+#include "sim/io/provenance.hpp"
 
 namespace lg::cli {
 
@@ -22,7 +20,8 @@ constexpr int kFailed = 1;        // a run failed, or an output could not be wri
 constexpr int kUsage = 2;         // bad input: nothing written
 constexpr int kInterrupted = 130; // Ctrl-C (128 + SIGINT)
 
-inline std::string version(const std::string& program) { return program + " " + LG_VERSION; }
+// "certify 0.2.0 (commit <sha>)": the version and the commit embedded at build time.
+inline std::string version(const std::string& program) { return versionLine(program); }
 
 // A program's CLI::App with --version; its description is the first line of --help.
 inline void addVersion(CLI::App& app, const std::string& program) {
