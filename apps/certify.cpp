@@ -14,6 +14,7 @@
 #include "sim/io/compliance.hpp"
 #include "sim/io/files.hpp"
 #include "sim/io/plots.hpp"
+#include "sim/io/provenance.hpp"
 #include "sim/io/toml_reader.hpp"
 
 namespace {
@@ -112,7 +113,10 @@ int main(int argc, char** argv) {
   opt.stop = [] { return lg::cli::interrupted(); };
   std::vector<lg::CaseResult> runs;
   const auto start = std::chrono::steady_clock::now();
+  const lg::Provenance prov = lg::makeProvenance("certify", argc, argv, lg::sceneInputs(scene));
   lg::Compliance c = lg::assessCompliance(scene, *spec, threads, opt, &runs, !nominal);
+  c.provenanceJson = lg::provenanceJson(prov);
+  c.provenanceMarkdown = lg::provenanceMarkdown(prov);
   if (!lg::cli::interrupted() && !scene.roles.struts.empty())
     c.servicing = lg::servicingCurve(scene, spec->landingMass > 0 ? spec->landingMass : lg::caseMass(scene, lg::DropCase{}));
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

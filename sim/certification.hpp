@@ -169,6 +169,7 @@ struct Compliance {
   // The strut at rest and its servicing chart (sim/servicing.hpp) at the matrix's landing mass; absent
   // where not computed.
   std::optional<ServicingCurve> servicing;
+  std::string provenanceJson, provenanceMarkdown;  // the run's provenance block (sim/io/provenance.hpp), if given
 };
 
 // The unit items of a certification.

@@ -41,4 +41,22 @@ struct TempDir {
   std::string operator/(const std::string& name) const { return (path / name).string(); }
 };
 
+// An output without its provenance block (sim/io/provenance.hpp), the one part that changes from run to
+// run: the "provenance" member of a JSON file (its three lines), the "## Provenance" section of a
+// markdown file, the "# " comment head of a written scene.
+inline std::string withoutProvenance(std::string text) {
+  if (const auto at = text.find("  \"provenance\": {"); at != std::string::npos) {
+    const auto end = text.find("]},\n", at);
+    if (end != std::string::npos) text.erase(at, end + 4 - at);
+  }
+  if (const auto at = text.find("## Provenance\n"); at != std::string::npos) {
+    const auto next = text.find("\n## ", at + 1);
+    text.erase(at, next == std::string::npos ? std::string::npos : next + 1 - at);
+  }
+  while (text.rfind("# Written by ", 0) == 0 || text.rfind("# command line: ", 0) == 0 ||
+         (text.rfind("# ", 0) == 0 && text.find(" sha256 ") < text.find('\n')))
+    text.erase(0, text.find('\n') + 1);
+  return text;
+}
+
 }  // namespace lgtest

@@ -303,7 +303,9 @@ const char* kTableHead =
 std::string complianceJson(const Compliance& c) {
   const Certification& s = *c.spec;
   std::ostringstream o;
-  o << "{\n  \"scene\": " << jsonString(c.scene) << ",\n  \"basis\": " << jsonString(s.basisName) << ",\n";
+  o << "{\n";
+  if (!c.provenanceJson.empty()) o << c.provenanceJson << ",\n";
+  o << "  \"scene\": " << jsonString(c.scene) << ",\n  \"basis\": " << jsonString(s.basisName) << ",\n";
   o << "  \"lift_method\": \"constant force L W g on the airframe\",\n";
   o << "  \"declared\": {\"landing_mass_kg\": " << jsonNumber(s.landingMass) << ", \"takeoff_mass_kg\": "
     << jsonNumber(s.takeoffMass) << ", \"wing_loading_kg_m2\": " << jsonNumber(s.part23() ? s.wingLoading : NAN)
@@ -339,6 +341,7 @@ std::string complianceMarkdown(const Compliance& c, const std::string& pictures)
   for (const auto& v : c.cases) failed += v.pass ? 0 : 1;
   for (const auto& u : c.unit) failed += u.pass ? 0 : 1;
   o << "# Drop-test compliance: " << basisTitle(s) << "\n\n";
+  if (!c.provenanceMarkdown.empty()) o << c.provenanceMarkdown << "\n## Configuration and verdict\n\n";
   o << "- scene: `" << c.scene << "`\n";
   o << "- basis: `" << s.basisName << "`";
   if (s.basis != CertBasis::Custom) {
