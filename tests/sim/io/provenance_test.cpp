@@ -18,7 +18,7 @@ TEST_CASE("provenance: SHA-256 of the FIPS 180-4 examples", "[provenance]") {
   CHECK(lg::sha256Hex(std::string(64, 'a')) == "ffe054fe7ae0cb6dc65c3af9b61d5209f439851db43d0ba5997337df154668eb");
 }
 
-TEST_CASE("provenance: a scene's inputs with their hashes; one changed byte of a table changes its hash", "[provenance]") {
+TEST_CASE("provenance: a scene's inputs with their hashes, and one changed byte of a table changes its hash", "[provenance]") {
   const lgtest::TempDir dir("provenance");
   const std::string table = lgtest::readFile(lgtest::sourcePath("data/tables/metering_pin.csv"));
   std::string scene = lgtest::readFile(lgtest::sourcePath("data/seed_gear_metering_pin.toml"));
