@@ -78,7 +78,11 @@ int main(int argc, char** argv) {
   }
   lg::calib::CalibrationFiles files;
   try {
-    files = lg::calib::writeCalibration(calib, r, outDir, plots);
+    std::vector<lg::InputFile> inputs{{"calibration", calibPath, ""}};
+    for (const auto& f : lg::sceneInputs(calib.scene)) inputs.push_back(f);
+    for (const auto& m : calib.measurements) inputs.push_back({"measurement", m.file, ""});
+    const lg::Provenance provenance = lg::makeProvenance("calibrate", argc, argv, inputs);
+    files = lg::calib::writeCalibration(calib, r, outDir, plots, &provenance);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return lg::cli::kFailed;

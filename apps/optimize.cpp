@@ -49,7 +49,11 @@ int main(int argc, char** argv) {
   if (!quiet) std::printf("%s: drop-test solver %s\n", study.name.c_str(), study.solverChoice.c_str());
   const bool maximize = study.objective.kind == lg::optim::ObjectiveKind::MaxEfficiency;
 
+  std::vector<lg::InputFile> inputs{{"study", studyPath, ""}};
+  for (const auto& f : lg::sceneInputs(study.scene)) inputs.push_back(f);
+  const lg::Provenance provenance = lg::makeProvenance("optimize", argc, argv, inputs);
   lg::optim::RunOptions ro;
+  ro.provenance = &provenance;
   ro.outDir = outDir;
   ro.threads = threads;
   ro.maxeval = maxeval;

@@ -35,6 +35,7 @@ struct Cli {
   int threads = 0, samples = 0;
   long long seed = -1;
   bool plots = false, quiet = false;
+  std::vector<std::string> argv;  // the command line as given (the provenance block)
 };
 
 // Applies the command line to the study's [sensitivity]; a bad value is an InputError naming the flag.
@@ -105,7 +106,12 @@ int finish(const Cli& c, const lg::optim::Study& study, const lg::optim::Sensiti
            double wall) {
   lg::optim::SensitivityFiles files;
   try {
-    files = lg::optim::writeSensitivity(study, r, c.out, c.plots);
+    std::vector<lg::InputFile> inputs{{"study", c.study, ""}};
+    for (const auto& f : lg::sceneInputs(study.scene)) inputs.push_back(f);
+    std::vector<const char*> args;
+    for (const auto& a : c.argv) args.push_back(a.c_str());
+    const lg::Provenance provenance = lg::makeProvenance("sensitivity", static_cast<int>(args.size()), args.data(), inputs);
+    files = lg::optim::writeSensitivity(study, r, c.out, c.plots, &provenance);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return lg::cli::kFailed;
@@ -147,6 +153,7 @@ int main(int argc, char** argv) {
   };
 
   Cli c;
+  for (int i = 0; i < argc; ++i) c.argv.push_back(argv[i]);
   if (const int status = parseCommandLine(argc, argv, root, c); status >= 0) return status;
   // Every rank reads and checks the input: bad input stops them all alike, before anything is written.
   lg::optim::Study study;

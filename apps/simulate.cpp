@@ -173,7 +173,7 @@ struct Gradients {
 
 // Writes every output file (atomically); throws std::runtime_error on the first that fails.
 void writeOutputs(const Options& o, const lg::Scene& scene, const std::vector<lg::CaseResult>& results, bool gnuplot,
-                  const Gradients* g) {
+                  const Gradients* g, const lg::Provenance& provenance) {
   namespace fs = std::filesystem;
   for (const auto& r : results) {
     const std::string stem = lg::safeFileStem(r.metrics.name);
@@ -192,7 +192,7 @@ void writeOutputs(const Options& o, const lg::Scene& scene, const std::vector<lg
       std::cerr << "plot of " << r.metrics.name << " skipped: " << why << "\n";
   }
   lg::writeFileAtomic((fs::path(o.outDir) / "summary.json").string(),
-                      lg::summaryJson(scene, results, g ? &g->cases : nullptr, g ? &g->units : nullptr));
+                      lg::stampJson(lg::summaryJson(scene, results, g ? &g->cases : nullptr, g ? &g->units : nullptr), &provenance));
   if (g) lg::writeFileAtomic((fs::path(o.outDir) / "gradient.csv").string(), lg::gradientCsv(g->cases, g->units));
   lg::writeFileAtomic((fs::path(o.outDir) / "summary.csv").string(), lg::summaryCsv(results));
 }
@@ -378,6 +378,7 @@ int main(int argc, char** argv) {
   lg::cli::installInterruptHandler();
   if (o.workPrecision) return workPrecision(o, scene, cases);
 
+  const lg::Provenance provenance = lg::makeProvenance("simulate", argc, argv, lg::sceneInputs(scene));
   const std::vector<lg::CaseResult> results = runCases(o, scene, cases, threads);
   const Gradients gradients = caseGradients(scene, cases, gradientParams, threads);
   if (lg::cli::interrupted()) {
@@ -394,7 +395,7 @@ int main(int argc, char** argv) {
   const bool gnuplot = o.plots && lg::haveGnuplot();
   if (o.plots && !gnuplot) std::cerr << "plots skipped: gnuplot is not installed (scripts/setup.sh installs gnuplot-nox)\n";
   try {
-    writeOutputs(o, scene, results, gnuplot, gradientParams.empty() ? nullptr : &gradients);
+    writeOutputs(o, scene, results, gnuplot, gradientParams.empty() ? nullptr : &gradients, provenance);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return lg::cli::kFailed;

@@ -348,7 +348,8 @@ std::string reportMarkdown(const Calibration& c, const FitResult& r, const std::
   return m.str();
 }
 
-CalibrationFiles writeCalibration(const Calibration& c, const FitResult& r, const std::string& dir, bool plots) {
+CalibrationFiles writeCalibration(const Calibration& c, const FitResult& r, const std::string& dir, bool plots,
+                                  const Provenance* provenance) {
   CalibrationFiles out;
   const fs::path d(dir), pd = d / "plots";
   fs::create_directories(pd);
@@ -368,9 +369,9 @@ CalibrationFiles writeCalibration(const Calibration& c, const FitResult& r, cons
   else if (std::system(("cd '" + pd.string() + "' && gnuplot plots.gp > gnuplot.log 2>&1").c_str()) != 0)
     note = "gnuplot failed (see `plots/gnuplot.log`); the data and the scripts are in `plots/`.";
   if (!note.empty() && plots) out.warnings.push_back(note);
-  put(d / "calibrated.toml", calibratedToml(c, r, dir));
-  put(d / "result.json", resultJson(c, r));
-  put(d / "report.md", reportMarkdown(c, r, note));
+  put(d / "calibrated.toml", stampToml(calibratedToml(c, r, dir), provenance));
+  put(d / "result.json", stampJson(resultJson(c, r), provenance));
+  put(d / "report.md", stampMarkdown(reportMarkdown(c, r, note), provenance));
   return out;
 }
 

@@ -15,6 +15,7 @@
 
 #include "calib/calibration.hpp"
 #include "calib/fit.hpp"
+#include "sim/io/provenance.hpp"
 
 namespace lg::calib {
 
@@ -33,6 +34,8 @@ struct CalibrationFiles {
 };
 // Writes every output into 'dir' (created and tested before the fit by the caller); plots = false skips
 // gnuplot (the scripts are written regardless). Throws std::runtime_error when a file cannot be written.
-CalibrationFiles writeCalibration(const Calibration& c, const FitResult& r, const std::string& dir, bool plots);
+// 'provenance' (optional) heads result.json, report.md and calibrated.toml (sim/io/provenance.hpp).
+CalibrationFiles writeCalibration(const Calibration& c, const FitResult& r, const std::string& dir, bool plots,
+                                  const Provenance* provenance = nullptr);
 
 }  // namespace lg::calib

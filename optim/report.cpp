@@ -680,7 +680,7 @@ StudyResult runStudy(const Study& s, const RunOptions& o) {
   if (s.envelope.robust()) measureRobustness(s, o, dir, t0, res);
 
   res.bestToml = bestSceneText(s, res.opt.x, dir.string());
-  writeFileAtomic((dir / "best.toml").string(), res.bestToml);
+  writeFileAtomic((dir / "best.toml").string(), stampToml(res.bestToml, o.provenance));
 
   const bool gp = o.plots && haveGnuplot();
   bool made = false;
@@ -689,8 +689,8 @@ StudyResult runStudy(const Study& s, const RunOptions& o) {
   if (o.plots && !gp) res.warnings.push_back("gnuplot not found: report.md has no pictures");
 
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  writeFileAtomic((dir / "result.json").string(), resultJson(s, res, wall));
-  writeFileAtomic((dir / "report.md").string(), reportMarkdown(s, res, wall, pics, gp, o.plots));
+  writeFileAtomic((dir / "result.json").string(), stampJson(resultJson(s, res, wall), o.provenance));
+  writeFileAtomic((dir / "report.md").string(), stampMarkdown(reportMarkdown(s, res, wall, pics, gp, o.plots), o.provenance));
   return res;
 }
 

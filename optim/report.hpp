@@ -17,6 +17,7 @@
 #include "optim/optimizer.hpp"
 #include "optim/study.hpp"
 #include "sim/io/json.hpp"
+#include "sim/io/provenance.hpp"
 
 namespace lg::optim {
 
@@ -30,6 +31,7 @@ struct RunOptions {
   bool plots = true;        // run gnuplot for report.md
   std::function<bool()> stop;                                 // Ctrl-C flag
   std::function<void(const EvaluationRecord&, double elapsed_s)> progress;  // after each evaluation
+  const Provenance* provenance = nullptr;  // heads result.json, report.md and best.toml (sim/io/provenance.hpp)
 };
 
 // What a robust study's constraints at the corners cost, and where they bind (Study::envelope).

@@ -373,7 +373,8 @@ std::string sensitivityMarkdown(const Study& s, const SensitivityResult& r, cons
   return text;
 }
 
-SensitivityFiles writeSensitivity(const Study& s, const SensitivityResult& r, const std::string& dir, bool plots) {
+SensitivityFiles writeSensitivity(const Study& s, const SensitivityResult& r, const std::string& dir, bool plots,
+                                  const Provenance* provenance) {
   SensitivityFiles out;
   const fs::path d(dir), pd = d / "plots";
   fs::create_directories(pd);
@@ -390,7 +391,7 @@ SensitivityFiles writeSensitivity(const Study& s, const SensitivityResult& r, co
     put(d / ("indices_" + method + ".csv"), indicesCsv(s, r, method));
   }
   if (r.sobol) put(d / "convergence_sobol.csv", convergenceCsv(s, r));
-  put(d / "indices.json", sensitivityJson(s, r));
+  put(d / "indices.json", stampJson(sensitivityJson(s, r), provenance));
   std::string script;
   for (const std::string& metric : r.settings.metrics) {
     std::vector<Figure> figs;
@@ -411,7 +412,7 @@ SensitivityFiles writeSensitivity(const Study& s, const SensitivityResult& r, co
   out.pictures = note.empty();
   if (!note.empty() && plots) out.warnings.push_back(note);
   for (const auto& w : sobolWarnings(s, r)) out.warnings.push_back(w);
-  put(d / "report.md", sensitivityMarkdown(s, r, note));
+  put(d / "report.md", stampMarkdown(sensitivityMarkdown(s, r, note), provenance));
   return out;
 }
 

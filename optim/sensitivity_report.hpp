@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "optim/sensitivity.hpp"
+#include "sim/io/provenance.hpp"
 
 namespace lg::optim {
 
@@ -37,6 +38,8 @@ struct SensitivityFiles {
 
 // Creates 'dir' and writes every output; plots = false skips gnuplot (data and scripts still written).
 // Throws std::runtime_error when a file cannot be written.
-SensitivityFiles writeSensitivity(const Study& s, const SensitivityResult& r, const std::string& dir, bool plots);
+// 'provenance' (optional) heads indices.json and report.md (sim/io/provenance.hpp).
+SensitivityFiles writeSensitivity(const Study& s, const SensitivityResult& r, const std::string& dir, bool plots,
+                                  const Provenance* provenance = nullptr);
 
 }  // namespace lg::optim

@@ -183,4 +183,18 @@ std::string provenanceComment(const Provenance& p) {
   return o.str();
 }
 
+std::string stampJson(const std::string& json, const Provenance* p) {
+  if (!p || json.rfind("{\n", 0) != 0) return json;
+  return "{\n" + provenanceJson(*p) + ",\n" + json.substr(2);
+}
+
+std::string stampMarkdown(const std::string& md, const Provenance* p) {
+  if (!p) return md;
+  const auto title = md.rfind("# ", 0) == 0 ? md.find('\n') : std::string::npos;
+  if (title == std::string::npos) return provenanceMarkdown(*p) + "\n" + md;
+  return md.substr(0, title + 1) + "\n" + provenanceMarkdown(*p) + md.substr(title + 1);
+}
+
+std::string stampToml(const std::string& toml, const Provenance* p) { return p ? provenanceComment(*p) + toml : toml; }
+
 }  // namespace lg

@@ -54,4 +54,10 @@ std::string provenanceMarkdown(const Provenance& p);
 // The block as TOML comment lines, each starting "# ".
 std::string provenanceComment(const Provenance& p);
 
+// An output with the block laid in (nothing where 'p' is null): a JSON document's first member, a
+// markdown document's section after its title, a TOML document's comment head.
+std::string stampJson(const std::string& json, const Provenance* p);
+std::string stampMarkdown(const std::string& md, const Provenance* p);
+std::string stampToml(const std::string& toml, const Provenance* p);
+
 }  // namespace lg

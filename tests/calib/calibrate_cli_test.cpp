@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "sim/drop_test.hpp"
+#include "sim/io/provenance.hpp"
 
 using namespace calibtest;
 namespace fs = std::filesystem;
@@ -45,11 +46,18 @@ TEST_CASE("calibrate: its files, the same bytes on 1 and 3 threads, calibrated.t
   CHECK(out.empty());
   for (const std::string f : {"result.json", "report.md", "calibrated.toml", "histories_drop.csv", "plots/plots.gp"}) {
     INFO(f);
-    const std::string a = readFile(dir / ("a/" + f));
+    const std::string a = lgtest::withoutProvenance(readFile(dir / ("a/" + f)));
     CHECK(a.size() > 100);
-    CHECK(a == readFile(dir / ("b/" + f)));
+    CHECK(a == lgtest::withoutProvenance(readFile(dir / ("b/" + f))));
   }
   const std::string json = readFile(dir / "a/result.json");
+  // the provenance block: the calibration file, the scene and each measurement with its hash
+  CHECK(json.rfind("{\n  \"provenance\": {\"program\": \"calibrate\"", 0) == 0);
+  CHECK(json.find("{\"role\": \"measurement\"") != std::string::npos);
+  CHECK(json.find("{\"role\": \"calibration\", \"path\": \"" + dir / "c.cfg" + "\", \"sha256\": \"" +
+                  lg::fileSha256(dir / "c.cfg") + "\"}") != std::string::npos);
+  CHECK(readFile(dir / "a/calibrated.toml").rfind("# Written by calibrate ", 0) == 0);
+  CHECK(readFile(dir / "a/report.md").find("\n## Provenance\n") != std::string::npos);
   CHECK(json.find("\"identifiable\": true") != std::string::npos);
   CHECK(json.find("\"residual_variance_from_fit\": true") != std::string::npos);
   const std::string report = readFile(dir / "a/report.md");

@@ -99,6 +99,13 @@ TEST_CASE("optimize: Ctrl-C stops the study, writes the best design so far and e
   CHECK(json.find("\"interrupted\": true") != std::string::npos);
   CHECK(json.find("\"reason\": \"stopped: interrupted") != std::string::npos);
   CHECK(fs::exists(dir / "out/best.toml"));
+  // the provenance block heads result.json, report.md and best.toml: the study and the scene with their hashes
+  CHECK(json.rfind("{\n  \"provenance\": {\"program\": \"optimize\"", 0) == 0);
+  CHECK(json.find("{\"role\": \"study\", \"path\": \"" + study + "\", \"sha256\": \"" + lg::fileSha256(study) + "\"}") !=
+        std::string::npos);
+  CHECK(json.find("{\"role\": \"scene\", \"path\": \"" + std::string(LG_SOURCE_DIR) + "/data/seed_gear.toml\", \"sha256\": \"" +
+                  lg::fileSha256(std::string(LG_SOURCE_DIR) + "/data/seed_gear.toml") + "\"}") != std::string::npos);
+  CHECK(readFile(dir / "out/best.toml").rfind("# Written by optimize ", 0) == 0);
   // every logged evaluation is whole: as many fields as the header
   std::istringstream hist(readFile(dir / "out/history.csv"));
   std::string header, line;
