@@ -89,7 +89,7 @@ std::string metricNeeds(const Scene& sc, const std::string& metric) {
   if ((metric == "h_max" || metric == "efficiency" || metric == "rebound_velocity" || metric == "energy_absorbed") &&
       !airframe)
     return "an airframe body ([scene] airframe, or a lift element)";
-  if (metric == "drag_peak") {
+  if (metric == "drag_peak" || metric == "springback_peak" || metric == "drag_at_peak" || metric == "drag_ratio") {
     bool drag = false;
     for (int f : sc.roles.tyres) drag = drag || std::get<Tyre<double>>(sc.model.forces[f].type).longitudinal;
     if (!drag) return "a tyre with a longitudinal force (mu_x: wheel spin-up)";

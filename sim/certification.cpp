@@ -1,6 +1,7 @@
 // Certification matrix: generation of the cases, their limits and verdicts (certification.hpp).
 #include "sim/certification.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -66,7 +67,7 @@ Certification parseCertification(const toml::table& t, const std::string& file, 
                                  const std::string& basisOverride) {
   TomlReader r(t, file, "certification");
   r.allowOnly({"basis", "landing_mass", "takeoff_mass", "wing_loading", "lift_ratio", "reserve_lift_ratio",
-               "limit_load_factor", "stroke_margin", "tyre_limit", "mass_body", "duration", "case"});
+               "limit_load_factor", "stroke_margin", "tyre_limit", "mass_body", "duration", "case", "forward_speed"});
   Certification c;
   c.file = file;
   c.line = r.line();
@@ -124,6 +125,19 @@ Certification parseCertification(const toml::table& t, const std::string& file, 
   c.tyreLimit = r.has("tyre_limit") ? r.positive("tyre_limit") : 0.0;
   if (scene.roles.tyres.empty() && r.has("tyre_limit")) r.fail("tyre_limit", "the scene has no tyre");
   c.duration = r.positive("duration", 0.8);
+  // The forward speed of the drops: declared, or the scene's own cases' (the spin-up they model).
+  bool spinUp = false;
+  for (int f : scene.roles.tyres) spinUp = spinUp || std::get<Tyre<double>>(scene.model.forces[f].type).longitudinal;
+  if (r.has("forward_speed")) {
+    c.forwardSpeed = r.nonNegative("forward_speed", 0.0);
+    if (c.forwardSpeed > 0 && !spinUp)
+      r.fail("forward_speed", "no tyre of this scene declares the longitudinal friction coefficient mu_x (wheel spin-up)");
+    if (c.forwardSpeed > 150) r.fail("forward_speed", "value " + fmt(c.forwardSpeed) + " m/s is not a landing speed (at most 150 m/s)");
+    c.forwardSpeedSource = "declared in [certification]";
+  } else {
+    for (const auto& sc : scene.cases) c.forwardSpeed = std::max(c.forwardSpeed, sc.forwardSpeed);
+    c.forwardSpeedSource = c.forwardSpeed > 0 ? "the scene's own cases' (the largest)" : "none: no case of the scene has one";
+  }
 
   if (custom) {
     if (r.has("wing_loading")) r.fail("wing_loading", "is used by the part23 and cs23 bases only");
@@ -149,6 +163,7 @@ Certification parseCertification(const toml::table& t, const std::string& file, 
       cc.mass = cr.positive("mass");
       if (!(cc.mass > rest)) cr.fail("mass", "value " + fmt(cc.mass) + " kg must exceed the gear's other bodies, " + fmt(rest) + " kg");
       cc.duration = cr.positive("duration", c.duration);
+      cc.forwardSpeed = c.forwardSpeed;
       cc.rule = "custom case";
       c.cases.push_back(cc);
     }
@@ -176,6 +191,7 @@ Certification parseCertification(const toml::table& t, const std::string& file, 
                                cs ? "reserve energy at the design landing weight, 3.7 m/s (CS-25)"
                                   : "reserve energy at the design landing weight, 3.66 m/s (12 ft/s)"));
   }
+  for (auto& cc : c.cases) cc.forwardSpeed = c.forwardSpeed;
   return c;
 }
 
@@ -185,6 +201,7 @@ DropCase certDropCase(const Scene& scene, const Certification& c, const CertCase
   d.sinkSpeed = cc.sinkSpeed;
   d.liftRatio = cc.liftRatio;
   d.duration = cc.duration;
+  d.forwardSpeed = cc.forwardSpeed;
   double rest = 0;
   for (const auto& b : scene.model.bodies)
     if (b.name != c.massBody) rest += b.mass;
@@ -322,6 +339,7 @@ Compliance assessCompliance(const Scene& scene, const Certification& c, int thre
     const DropCase& d = scene.cases[i - nm];
     CertCase cc = makeCase(d.name, CertKind::Limit, d.sinkSpeed, d.liftRatio, caseMass(scene, d), d.duration,
                            "the scene's own case (a check)");
+    cc.forwardSpeed = d.forwardSpeed;
     return assessCase("check", cc, m, checks);
   };
   for (size_t i = 0; i < nm; ++i) out.cases.push_back(verdictOf(0, i));

@@ -15,6 +15,8 @@
 //   tyre_limit = 0.10           # [m] largest tyre deflection (default: each tyre's delta_max)
 //   mass_body = "airframe"      # the body whose mass makes up W (default: the scene's airframe)
 //   duration = 0.8              # [s] of each case
+//   forward_speed = 60.0        # [m/s] of every case: wheel spin-up on the tyres that declare mu_x (default:
+//                               # the largest forward speed of the scene's own cases, 0 where they have none)
 //   [[certification.case]]      # basis = "custom" only: name, kind = "limit" | "reserve",
 //                               # sink_speed [m/s], lift_ratio, mass [kg]
 //
@@ -53,6 +55,7 @@ struct CertCase {
   double liftRatio = 0;   // [-]
   double mass = 0;        // [kg] W, the mass on the unit
   double duration = 0.8;  // [s]
+  double forwardSpeed = 0;  // [m/s] V_x: the ground under the tyres that declare mu_x (spin-up, spring-back)
   std::string rule;       // where its numbers come from, for people
 };
 
@@ -72,6 +75,8 @@ struct Certification {
   double tyreLimit = 0;          // [m]; 0: each tyre's delta_max
   std::string massBody;          // body whose mass makes W up
   double duration = 0.8;         // [s]
+  double forwardSpeed = 0;       // [m/s] of every matrix case (spin-up where a tyre declares mu_x)
+  std::string forwardSpeedSource;  // where it comes from, for people
   std::vector<CertCase> cases;   // the matrix, generated (or custom)
 
   bool part23() const { return basis == CertBasis::Part23 || basis == CertBasis::CS23; }

@@ -47,7 +47,9 @@ template <class S> struct CaseFigures {
   S peak_load = S(0), t_peak = S(0), load_factor = S(0), inertia_load_factor = S(0), stroke_max = S(0),
     stroke_margin = S(0), h_max = S(0), tyre_deflection_max = S(0), tyre_margin = S(0), efficiency = S(0),
     strut_efficiency = S(0), strut_force_max = S(0), energy_absorbed = S(0), energy_to_absorb = S(0),
-    rebound_velocity = S(0), mass = S(0), drag_peak = S(0), t_drag_peak = S(0);
+    rebound_velocity = S(0), mass = S(0), drag_peak = S(0), t_drag_peak = S(0),
+    springback_peak = S(0), t_springback = S(0),  // the largest forward load -P_x (spring-back), its time
+    drag_at_peak = S(0);                          // P_x at t_peak, the time of the largest vertical load
   std::vector<StrutFigures<S>> struts;
   std::vector<TyreFigures<S>> tyres;
   double energy_dissipated = 0, energy_balance_error = 0, constraint_violation_max = 0;
@@ -85,7 +87,9 @@ template <class S> CaseFigures<double> valuesOf(const CaseFigures<S>& F) {
                           {&v.efficiency, &F.efficiency}, {&v.strut_efficiency, &F.strut_efficiency},
                           {&v.strut_force_max, &F.strut_force_max}, {&v.energy_absorbed, &F.energy_absorbed},
                           {&v.energy_to_absorb, &F.energy_to_absorb}, {&v.rebound_velocity, &F.rebound_velocity},
-                          {&v.mass, &F.mass}, {&v.drag_peak, &F.drag_peak}, {&v.t_drag_peak, &F.t_drag_peak}})
+                          {&v.mass, &F.mass}, {&v.drag_peak, &F.drag_peak}, {&v.t_drag_peak, &F.t_drag_peak},
+                          {&v.springback_peak, &F.springback_peak}, {&v.t_springback, &F.t_springback},
+                          {&v.drag_at_peak, &F.drag_at_peak}})
     *dst = value(*src);
   for (const auto& st : F.struts)
     v.struts.push_back({value(st.stroke_max), value(st.stroke_limit), value(st.stroke_margin), value(st.force_max),
@@ -188,6 +192,8 @@ template <class S> class DropObserver {
       F_.tyres[k].drag_max = prev_.px[k];
     }
     F_.drag_peak = prev_.Px;
+    F_.springback_peak = -prev_.Px;
+    F_.drag_at_peak = prev_.Px;
     checkBottom(s);
   }
 
@@ -224,10 +230,12 @@ template <class S> class DropObserver {
     const bool newPeak = refine(prev_.PyDot, end_.PyDot, t0, t1, d, [](const Channels& c) { return c.Py; }, F_.peak_load,
                                 &F_.t_peak, end_.Py, t1, &tPy, /*everyPeak=*/true);
     if (newPeak) F_.peakCurvature = 0;  // (set again below where the new peak is a smooth interior maximum)
+    bool moved = newPeak;
     if (newPeak && tPy >= 0) {
       correctPeakTime(tPy, t0, t1, d);
       lastRefinedTime_ = value(F_.t_peak);  // (this hump's time: the peak's own, polished)
     } else if (!newPeak && value(F_.t_peak) == value(t0) && value(prev_.PyDot) > 0 && value(end_.PyDot) < 0) {
+      moved = true;
       // The maximum is this step's start: the last step ended rising, and no value inside this one is
       // larger (the top rises above t0 by less than round-off, or by less than the projection between the
       // steps lowered P_y: at rtol 1e-2 the seed gear's limit drop kept its peak 0.3 ms before the top, a
@@ -236,6 +244,11 @@ template <class S> class DropObserver {
       correctPeakTime(value(t0), t0, t1, d, /*fromSearch=*/false);
     }
     if (value(prev_.PyDot) > 0 && value(end_.PyDot) < 0) F_.loadHumps.push_back({lastRefinedTime_, lastRefinedValue_});
+    if (drag_ && moved) {  // the drag load at the time of the largest vertical load (spin-up declared)
+      const S t = value(F_.t_peak) < value(t0) ? t0 : value(F_.t_peak) > value(t1) ? t1 : F_.t_peak;
+      channelsAt(t, d, scratch_);
+      F_.drag_at_peak = scratch_.Px;
+    }
   }
   // Each tyre's largest deflection, load and drag, and the gear's drag peak.
   void watchTyres(const S& t0, const S& t1, const DenseOutput<S>& d) {
@@ -252,9 +265,12 @@ template <class S> class DropObserver {
         refineWithoutRate(prev_.px[k], mid_.px[k], end_.px[k], t0, t1, d, [k](const Channels& c) { return c.px[k]; },
                           T.drag_max);
     }
-    if (drag_)
+    if (drag_) {
       refineWithoutRate(prev_.Px, mid_.Px, end_.Px, t0, t1, d, [](const Channels& c) { return c.Px; }, F_.drag_peak, false,
                         &F_.t_drag_peak);
+      refineWithoutRate(-prev_.Px, -mid_.Px, -end_.Px, t0, t1, d, [](const Channels& c) { return -c.Px; }, F_.springback_peak,
+                        false, &F_.t_springback);
+    }
   }
   // Each strut's largest stroke (and its work up to there), its peak force P_a, and the regularised
   // friction's stick watch.

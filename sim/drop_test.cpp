@@ -102,6 +102,9 @@ CaseMetrics caseMetrics(const CaseFigures<double>& F, const Scene& scene, const 
   M.forward_speed_mps = c.forwardSpeed;
   M.drag_peak_N = F.drag_peak;
   M.t_drag_peak_s = F.t_drag_peak;
+  M.springback_peak_N = F.springback_peak;
+  M.t_springback_s = F.t_springback;
+  M.drag_at_peak_N = F.drag_at_peak;
   M.mass_kg = F.mass;
   M.peak_load_N = F.peak_load;
   M.t_peak_s = F.t_peak;

@@ -48,6 +48,9 @@ struct CaseMetrics {
   bool longitudinal = false;           // a tyre declares mu_x: the drag figures below are its
   double drag_peak_N = 0;              // max P_x, P_x = sum of the tyres' drag loads (spin-up, spring-back)
   double t_drag_peak_s = 0;
+  double springback_peak_N = 0;        // max -P_x: the forward load of spring-back (the leg swinging back after spin-up)
+  double t_springback_s = 0;
+  double drag_at_peak_N = 0;           // P_x at t_peak, when the vertical load is largest (design drag: >= 0.25 P_y,max)
   double mass_kg = 0;                  // W: total mass of the scene in this case
   double peak_load_N = 0;              // max P_y, P_y = sum of the tyre loads
   double t_peak_s = 0;

@@ -22,6 +22,9 @@ const std::vector<MetricInfo>& metricCatalogue() {
       {"energy_absorbed", "J", "work of the gear over the compression, integral(P_y dh) to h_max", 100},
       {"rebound_velocity", "m/s", "largest upward airframe velocity after the compression", 0.01},
       {"drag_peak", "N", "largest drag load P_x (wheel spin-up, positive aft; the tyres that declare mu_x)", 1e3},
+      {"springback_peak", "N", "largest forward load -P_x (spring-back after spin-up; the tyres that declare mu_x)", 1e3},
+      {"drag_at_peak", "N", "drag load P_x when the vertical load is largest (t_peak; the tyres that declare mu_x)", 1e3},
+      {"drag_ratio", "-", "P_x / P_y at the largest vertical load (the rules' design drag: at least 0.25)", 0.01},
   };
   return c;
 }
@@ -54,6 +57,10 @@ double metricValue(const CaseMetrics& m, const std::string& name) {
   if (name == "energy_absorbed") return m.energy_absorbed_J;
   if (name == "rebound_velocity") return m.rebound_velocity_mps;
   if (name == "drag_peak") return m.longitudinal ? m.drag_peak_N : std::numeric_limits<double>::quiet_NaN();
+  if (name == "springback_peak") return m.longitudinal ? m.springback_peak_N : std::numeric_limits<double>::quiet_NaN();
+  if (name == "drag_at_peak") return m.longitudinal ? m.drag_at_peak_N : std::numeric_limits<double>::quiet_NaN();
+  if (name == "drag_ratio")
+    return m.longitudinal && m.peak_load_N > 0 ? m.drag_at_peak_N / m.peak_load_N : std::numeric_limits<double>::quiet_NaN();
   return std::numeric_limits<double>::quiet_NaN();
 }
 

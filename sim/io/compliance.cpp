@@ -58,7 +58,8 @@ std::string verdictJson(const CaseVerdict& v) {
     << ", \"kind\": " << jsonString(v.role == "check" ? "check" : certKindName(v.cert.kind))
     << ", \"rule\": " << jsonString(v.cert.rule) << ",\n";
   o << "      \"sink_speed_mps\": " << jsonNumber(v.cert.sinkSpeed) << ", \"lift_ratio\": " << jsonNumber(v.cert.liftRatio)
-    << ", \"mass_kg\": " << jsonNumber(v.cert.mass) << ", \"duration_s\": " << jsonNumber(v.cert.duration) << ",\n";
+    << ", \"mass_kg\": " << jsonNumber(v.cert.mass) << ", \"duration_s\": " << jsonNumber(v.cert.duration)
+    << ", \"forward_speed_mps\": " << jsonNumber(v.cert.forwardSpeed) << ",\n";
   const auto& m = v.metrics;
   o << "      \"metrics\": {\"ok\": " << jsonBool(m.ok) << ", \"peak_load_N\": " << jsonNumber(m.peak_load_N)
     << ", \"load_factor\": " << jsonNumber(m.load_factor) << ", \"inertia_load_factor\": " << jsonNumber(m.inertia_load_factor)
@@ -67,7 +68,14 @@ std::string verdictJson(const CaseVerdict& v) {
     << jsonNumber(m.tyre_margin_m) << ", \"h_max_m\": " << jsonNumber(m.h_max_m) << ", \"efficiency\": "
     << jsonNumber(m.efficiency) << ", \"energy_to_absorb_J\": " << jsonNumber(m.energy_to_absorb_J)
     << ", \"energy_absorbed_J\": " << jsonNumber(m.energy_absorbed_J) << ", \"compression_ended\": "
-    << jsonBool(m.compression_ended) << ", \"bottomed\": " << jsonBool(m.bottomed) << "},\n";
+    << jsonBool(m.compression_ended) << ", \"bottomed\": " << jsonBool(m.bottomed);
+  if (m.longitudinal)
+    o << ",\n        \"drag_peak_N\": " << jsonNumber(m.drag_peak_N) << ", \"t_drag_peak_s\": " << jsonNumber(m.t_drag_peak_s)
+      << ", \"springback_peak_N\": " << jsonNumber(m.springback_peak_N) << ", \"t_springback_s\": "
+      << jsonNumber(m.t_springback_s) << ", \"drag_at_peak_N\": " << jsonNumber(m.drag_at_peak_N) << ", \"drag_ratio\": "
+      << jsonNumber(metricValue(m, "drag_ratio")) << ", \"design_drag_N\": "
+      << jsonNumber(std::max(m.drag_at_peak_N, 0.25 * m.peak_load_N));
+  o << "},\n";
   o << "      \"limits\": [";
   for (size_t i = 0; i < v.limits.size(); ++i) {
     const auto& l = v.limits[i];
@@ -294,6 +302,33 @@ std::string servicingMarkdown(const ServicingCurve& c) {
   return o.str();
 }
 
+// The drag loads of the cases with wheel spin-up (a tyre that declares mu_x), or nothing.
+std::string dragMarkdown(const Compliance& c) {
+  bool any = false;
+  for (const auto& v : c.cases) any = any || v.metrics.longitudinal;
+  for (const auto& v : c.checks) any = any || v.metrics.longitudinal;
+  if (!any) return "";
+  std::ostringstream o;
+  o << "\n## Drag loads: wheel spin-up and spring-back\n\nThe tyres that declare `mu_x` spin the wheel up from rest "
+       "on ground moving aft at V_x; the drag P_x (positive aft) peaks during spin-up, the forward load -P_x at "
+       "spring-back. The rules' design drag at the largest vertical load is at least 0.25 P_y,max (design drag = "
+       "max(P_x, 0.25 P_y) at t_peak; reported, not a limit of the verdict). Forward speed of the matrix: "
+    << sig(c.spec->forwardSpeed, 4) << " m/s (" << c.spec->forwardSpeedSource << ").\n\n"
+    << "| case | V_x [m/s] | drag peak (spin-up) [kN] | at t [s] | spring-back [kN] | at t [s] | P_x at P_y,max [kN] | "
+       "P_x / P_y | design drag [kN] |\n|---|---|---|---|---|---|---|---|---|\n";
+  auto row = [&](const CaseVerdict& v) {
+    const CaseMetrics& m = v.metrics;
+    if (!m.longitudinal) return;
+    o << "| " << v.name << " | " << fixed(v.cert.forwardSpeed, 1) << " | " << fixed(m.drag_peak_N / 1e3, 2) << " | "
+      << fixed(m.t_drag_peak_s, 4) << " | " << fixed(m.springback_peak_N / 1e3, 2) << " | " << fixed(m.t_springback_s, 4)
+      << " | " << fixed(m.drag_at_peak_N / 1e3, 2) << " | " << fixed(metricValue(m, "drag_ratio"), 3) << " | "
+      << fixed(std::max(m.drag_at_peak_N, 0.25 * m.peak_load_N) / 1e3, 2) << " |\n";
+  };
+  for (const auto& v : c.cases) row(v);
+  for (const auto& v : c.checks) row(v);
+  return o.str();
+}
+
 const char* kTableHead =
     "| case | kind | V [m/s] | L | W [kg] | E to absorb [kJ] | absorbed [kJ] | n_g | n | stroke / limit [m] | "
     "tyre / limit [m] | eta | verdict |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
@@ -379,6 +414,7 @@ std::string complianceMarkdown(const Compliance& c, const std::string& pictures)
       << kTableHead;
     for (const auto& v : c.checks) o << row(v, &s);
   }
+  o << dragMarkdown(c);
   if (c.envelope) o << envelopeMarkdown(c);
   if (c.servicing) o << servicingMarkdown(*c.servicing);
   o << "\n## Pictures" << (c.envelope ? " (the nominal point)" : "") << "\n\n" << pictures << "\n";
@@ -403,6 +439,12 @@ std::string complianceSummary(const Compliance& c) {
       for (size_t i = 0; i < v.reasons.size(); ++i) o << (i ? "; " : "") << v.reasons[i];
     }
     o << "\n";
+    if (v.metrics.longitudinal) {  // wheel spin-up: the drag loads under the case
+      std::snprintf(b, sizeof b, "%-20s drag at V_x = %.1f m/s: spin-up %.1f kN, spring-back %.1f kN, P_x/P_y at P_y,max %.3f\n",
+                    "", v.cert.forwardSpeed, v.metrics.drag_peak_N / 1e3, v.metrics.springback_peak_N / 1e3,
+                    metricValue(v.metrics, "drag_ratio"));
+      o << b;
+    }
   };
   for (const auto& v : c.cases) line(v);
   for (const auto& u : c.unit) o << "unit: " << u.name << " = " << sig(u.value, 4) << " >= " << sig(u.bound, 4) << ": " << (u.pass ? "PASS" : "FAIL") << "\n";

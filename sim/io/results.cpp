@@ -72,6 +72,10 @@ std::string metricsJson(const CaseMetrics& m, const std::string& in) {
     num("forward_speed_mps", m.forward_speed_mps);
     num("drag_peak_N", m.drag_peak_N);
     num("t_drag_peak_s", m.t_drag_peak_s);
+    num("springback_peak_N", m.springback_peak_N);
+    num("t_springback_s", m.t_springback_s);
+    num("drag_at_peak_N", m.drag_at_peak_N);
+    num("drag_ratio", m.peak_load_N > 0 ? m.drag_at_peak_N / m.peak_load_N : NAN);
   }
   o << in << "  \"compression_ended\": " << (m.compression_ended ? "true" : "false") << ",\n";
   o << in << "  \"bottomed\": " << (m.bottomed ? "true" : "false") << ",\n";
@@ -186,7 +190,7 @@ std::string summaryCsv(const std::vector<CaseResult>& results) {
   // The drag figures where a tyre declares mu_x.
   bool drag = false;
   for (const CaseResult& r : results) drag = drag || r.metrics.longitudinal;
-  if (drag) out += "forward_speed[m/s],drag_peak[N],t_drag_peak[s],";
+  if (drag) out += "forward_speed[m/s],drag_peak[N],t_drag_peak[s],springback_peak[N],t_springback[s],drag_at_peak[N],drag_ratio[-],";
   out += "bottomed,within_limits,violations,";
   // Where dopri5 may hand over to ros34pw2 (an accuracy setting): the time it did for good, empty if never,
   // and the trials it handed back.
@@ -217,7 +221,9 @@ std::string summaryCsv(const std::vector<CaseResult>& results) {
                      m.energy_to_absorb_J, m.energy_dissipated_J, m.energy_balance_error, m.rebound_velocity_mps})
       out += "," + num(v);
     if (drag)
-      for (double v : {m.forward_speed_mps, m.drag_peak_N, m.t_drag_peak_s}) out += "," + num(v);
+      for (double v : {m.forward_speed_mps, m.drag_peak_N, m.t_drag_peak_s, m.springback_peak_N, m.t_springback_s,
+                       m.drag_at_peak_N, m.peak_load_N > 0 ? m.drag_at_peak_N / m.peak_load_N : NAN})
+        out += "," + num(v);
     out += std::string(",") + (m.bottomed ? "1" : "0") + "," + (m.withinLimits() ? "1" : "0") + ",\"" + viol + "\",";
     if (stiff) out += num(m.stiff_from_s) + "," + std::to_string(m.stiff_handbacks) + ",";
     if (accuracy) out += num(m.accuracy) + "," + num(m.t_peak_condition) + "," + num(m.accuracy_rerun) + ",";

@@ -87,9 +87,10 @@ TEST_CASE("sensitivity: [sensitivity] defaults and a full table", "[optim][sensi
   CHECK(d.sensitivity.morris);
   CHECK(d.sensitivity.sobol);
   CHECK(d.sensitivity.cases == std::vector<int>{0});          // the steering case
-  // the seed gear measures every one but the peak drag (no tyre declares mu_x)
-  CHECK(d.sensitivity.metrics.size() == lg::metricCatalogue().size() - 1);
-  CHECK(std::find(d.sensitivity.metrics.begin(), d.sensitivity.metrics.end(), "drag_peak") == d.sensitivity.metrics.end());
+  // the seed gear measures every one but the four drag loads (no tyre declares mu_x)
+  CHECK(d.sensitivity.metrics.size() == lg::metricCatalogue().size() - 4);
+  for (const char* drag : {"drag_peak", "springback_peak", "drag_at_peak", "drag_ratio"})
+    CHECK(std::find(d.sensitivity.metrics.begin(), d.sensitivity.metrics.end(), drag) == d.sensitivity.metrics.end());
   CHECK(d.sensitivity.samples == 256);
   CHECK(d.sensitivity.resamples == 100);
   const Study s = loadStudy(write("full.cfg", study("[sensitivity]\nmethods = [\"sobol\", \"local\"]\n"

@@ -245,3 +245,55 @@ TEST_CASE("certify: the envelope's every corner, the worst named, the same bytes
   }
   CHECK(lines == 15);
 }
+
+// Spin-up in the matrix: the main gear's scene cases drop at 60 m/s forward, so its matrix does too
+// (certification forward_speed, default the scene's). The matrix's reserve drop is `simulate`'s drop at
+// the same mass and forward speed, bit for bit; the drag at the vertical peak is the history's P_x at
+// t_peak; without a forward speed the drop is milder (the verdict was judged on the milder drop).
+TEST_CASE("certification: spin-up in the matrix at the scene's forward speed, the drag at the vertical peak",
+          "[certification][tyre]") {
+  const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/main_gear.toml"));
+  REQUIRE(sc.certification);
+  const lg::Certification& c = *sc.certification;
+  CHECK(c.forwardSpeed == 60.0);
+  CHECK(c.forwardSpeedSource == "the scene's own cases' (the largest)");
+  const lg::CertCase* reserve = c.findCase("cert-reserve");
+  REQUIRE(reserve);
+  CHECK(reserve->forwardSpeed == 60.0);
+  const lg::Compliance comp = lg::assessCompliance(sc, c, 2);
+  const lg::CaseMetrics& m = comp.cases[2].metrics;
+  REQUIRE(m.longitudinal);
+  lg::DropCase d;
+  d.name = "by-hand";
+  d.sinkSpeed = 3.66;
+  d.liftRatio = 1.0;
+  d.forwardSpeed = 60.0;
+  d.duration = c.duration;
+  d.masses["airframe"] = 4050.0 - (lg::caseMass(sc, lg::DropCase{}) - sc.model.bodies[sc.model.bodyIndex("airframe")].mass);
+  CHECK(lg::caseMass(sc, d) == Approx(4050.0).epsilon(1e-15));
+  lg::CaseOptions opt;
+  opt.record = true;
+  const lg::CaseResult byHand = lg::runCase(sc, d, opt);
+  CHECK(byHand.metrics.peak_load_N == m.peak_load_N);
+  CHECK(byHand.metrics.load_factor == m.load_factor);
+  CHECK(byHand.metrics.drag_peak_N == m.drag_peak_N);
+  CHECK(m.drag_peak_N > 30e3);  // spin-up
+  CHECK(m.springback_peak_N > 0);
+  // the drag at the vertical peak: the history's P_x at t_peak (the dense output there)
+  lg::CaseOptions at;
+  at.outputTimes = {m.t_peak_s};
+  at.record = true;
+  const lg::CaseResult row = lg::runCase(sc, d, at);
+  REQUIRE(row.samples.size() == 1);
+  const int px = row.column("P_x");
+  REQUIRE(px >= 0);
+  CHECK(m.drag_at_peak_N == Approx(row.samples[0].values[px]).margin(1e-9 * m.peak_load_N));
+  CHECK(lg::metricValue(m, "drag_ratio") == m.drag_at_peak_N / m.peak_load_N);
+  // the spin-up drop is the harder one: without a forward speed the matrix's n_g was 7 % lower
+  lg::DropCase still = d;
+  still.forwardSpeed = 0;
+  const double calm = lg::runCase(sc, still).metrics.load_factor;
+  CHECK(m.load_factor > 1.05 * calm);
+  std::printf("certification: main gear reserve n_g %.3f with spin-up at 60 m/s, %.3f without; drag peak %.1f kN\n",
+              m.load_factor, calm, m.drag_peak_N / 1e3);
+}
