@@ -306,6 +306,7 @@ Compliance assessCompliance(const Scene& scene, const Certification& c, int thre
                             std::vector<CaseResult>* runs, bool envelope) {
   Compliance out;
   out.scene = scene.file;
+  out.sceneRun = &scene;
   out.spec = &c;
   out.unit = unitItems(c);
   std::vector<DropCase> base;

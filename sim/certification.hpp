@@ -175,6 +175,7 @@ struct Compliance {
   // where not computed.
   std::optional<ServicingCurve> servicing;
   std::string provenanceJson, provenanceMarkdown;  // the run's provenance block (sim/io/provenance.hpp), if given
+  const Scene* sceneRun = nullptr;  // the scene the cases ran on (the dossier's configuration; assessCompliance sets it)
 };
 
 // The unit items of a certification.

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "sim/io/dossier.hpp"
 #include "sim/io/files.hpp"
 #include "sim/io/json.hpp"
 #include "sim/io/plots.hpp"
@@ -351,6 +352,7 @@ std::string complianceJson(const Compliance& c) {
     << (s.tyreLimit > 0 ? jsonNumber(s.tyreLimit) : std::string("\"delta_max of each tyre\"")) << ", \"mass_body\": "
     << jsonString(s.massBody) << "},\n";
   o << "  \"pass\": " << jsonBool(c.pass) << ",\n  \"checks_pass\": " << jsonBool(c.checksPass) << ",\n";
+  if (c.sceneRun) o << dossierJson(*c.sceneRun, c);
   o << "  \"unit\": [";
   for (size_t i = 0; i < c.unit.size(); ++i) {
     const auto& u = c.unit[i];
@@ -417,6 +419,9 @@ std::string complianceMarkdown(const Compliance& c, const std::string& pictures)
   o << dragMarkdown(c);
   if (c.envelope) o << envelopeMarkdown(c);
   if (c.servicing) o << servicingMarkdown(*c.servicing);
+  if (c.sceneRun)
+    o << derivationMarkdown(*c.sceneRun, c) << methodMarkdown(*c.sceneRun, c) << assumptionsMarkdown(*c.sceneRun, c)
+      << footnotesMarkdown(c) << configurationMarkdown(*c.sceneRun);
   o << "\n## Pictures" << (c.envelope ? " (the nominal point)" : "") << "\n\n" << pictures << "\n";
   return o.str();
 }

@@ -8,6 +8,8 @@
 #include <cstdlib>
 
 #include "sim/certification.hpp"
+#include "sim/io/compliance.hpp"
+#include "sim/io/dossier.hpp"
 
 namespace {
 
@@ -296,4 +298,59 @@ TEST_CASE("certification: spin-up in the matrix at the scene's forward speed, th
   CHECK(m.load_factor > 1.05 * calm);
   std::printf("certification: main gear reserve n_g %.3f with spin-up at 60 m/s, %.3f without; drag peak %.1f kN\n",
               m.load_factor, calm, m.drag_peak_N / 1e3);
+}
+
+// The dossier (sim/io/dossier.cpp): compliance.md holds every value of the scene with its unit, each
+// case's rule paragraphs for its basis (Part 25, CS-25, Part 23), the derivation of h and W_e by hand,
+// the method with each case's energy balance, the assumptions and the notes.
+TEST_CASE("certification: the dossier holds the configuration, the rules' paragraphs and the assumptions",
+          "[certification][dossier]") {
+  const lg::Scene sc = lgtest::build(lgtest::shippedDoc("data/seed_gear.toml"));
+  const lg::Compliance c = lg::assessCompliance(sc, *sc.certification, 2, {}, nullptr, false);
+  const std::string md = lg::complianceMarkdown(c, ""), json = lg::complianceJson(c);
+  // every key of every element, with its value and unit
+  int rows = 0;
+  for (const char* arr : {"body", "stop", "force"})
+    for (const auto& e : *sc.doc[arr].as_array()) {
+      const toml::table& t = *e.as_table();
+      const std::string name = t["name"].value_or(std::string());
+      for (const auto& [k, v] : t) {
+        if (k.str() == "name") continue;
+        INFO(arr << " " << name << " " << k.str());
+        CHECK(md.find("| " + std::string(arr) + " " + name + " | " + std::string(k.str()) + " | ") != std::string::npos);
+        ++rows;
+      }
+    }
+  CHECK(rows > 50);
+  CHECK(md.find("| force strut | p01 | 3000000 | Pa |") != std::string::npos);
+  CHECK(md.find("| force strut | Omega0 | 0.0013 | m^3 |") != std::string::npos);
+  CHECK(md.find("| force tyre | K | 800000 | N/m |") != std::string::npos);
+  CHECK(json.find("{\"element\": \"force strut\", \"key\": \"f1\", \"value\": \"7e-05\", \"unit\": \"m^2\"}") != std::string::npos);
+  // the rules' paragraphs of each basis
+  for (const char* p : {"14 CFR 25.473(a)(2)(i)", "14 CFR 25.473(a)(2)(ii)", "14 CFR 25.723(b)", "25.727 before amendment 25-103"})
+    CHECK(md.find(p) != std::string::npos);
+  const lg::Scene cs = withCertification("basis = \"cs25\"\nlanding_mass = 4050.0\nlimit_load_factor = 2.5\n");
+  const lg::Compliance ccs = lg::assessCompliance(cs, *cs.certification, 2);
+  CHECK(lg::complianceMarkdown(ccs, "").find("CS 25.723(b) (reserve energy: 3.7 m/s") != std::string::npos);
+  const lg::Scene p23 = withCertification("basis = \"part23\"\nlanding_mass = 4050.0\nwing_loading = 80.0\nlimit_load_factor = 2.7\n");
+  const lg::Compliance c23 = lg::assessCompliance(p23, *p23.certification, 2);
+  const std::string md23 = lg::complianceMarkdown(c23, "");
+  CHECK(md23.find("14 CFR 23.473 (n >= 2.67, n_g >= 2.0") != std::string::npos);
+  CHECK(md23.find("14 CFR 23.727 (reserve energy") != std::string::npos);
+  // h = V^2 / (2 g) and W_e = W [h + (1 - L) d] / (h + d) by hand: L = 1 leaves W h / (h + d)
+  const double h = 3.05 * 3.05 / (2 * 9.80665), d = c.cases[0].metrics.h_max_m;
+  CHECK(lg::dropHeight(3.05, 9.80665) == Approx(h).epsilon(1e-15));
+  CHECK(lg::effectiveMass(4050, 1.0, h, d) == Approx(4050 * h / (h + d)).epsilon(1e-14));
+  CHECK(lg::effectiveMass(4050, 0.0, h, d) == Approx(4050).epsilon(1e-15));
+  char row[200];
+  std::snprintf(row, sizeof row, "| 4050 | 3.05 | 1 | %.4g | %.4g | %.5g | 0 |", h, d, 4050 * h / (h + d));
+  CHECK(md.find(row) != std::string::npos);
+  // the method with each case's accuracy, the assumptions, the notes
+  CHECK(md.find("Integrator: dopri5, rtol 1e-06, atol 1e-08") != std::string::npos);
+  char balance[80];
+  std::snprintf(balance, sizeof balance, "| cert-reserve | %.3g |", c.cases[2].metrics.energy_balance_error);
+  CHECK(md.find(balance) != std::string::npos);
+  for (const char* a : {"## Assumptions and exclusions", "\"Must not fail\" in the reserve-energy drop is read as",
+                        "The design takeoff mass, 4250 kg", "## Notes to the tables", "n = n_g + L, the inertia load factor"})
+    CHECK(md.find(a) != std::string::npos);
 }
