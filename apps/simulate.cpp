@@ -27,6 +27,7 @@
 #include "sim/io/work_precision.hpp"
 #include "sim/metrics.hpp"
 #include "sim/parameters.hpp"
+#include "sim/scene_check.hpp"
 
 namespace {
 
@@ -88,7 +89,12 @@ lg::Scene loadInputs(const Options& o, const CLI::App& app, std::vector<lg::Drop
     if (o.sinkSpeeds.empty()) throw lg::InputError("command line", 0, "--sink-speeds", "a matrix needs its sink speeds");
     positive("--duration", o.duration);
     const auto V = lg::parseValueList(o.sinkSpeeds, "--sink-speeds", true);
+    for (double v : V)
+      if (const std::string rule = lg::sinkSpeedRule(v); !rule.empty())
+        throw lg::InputError("command line", 0, "--sink-speeds", rule);
     const auto L = o.liftRatios.empty() ? std::vector<double>{0.0} : lg::parseValueList(o.liftRatios, "--lift-ratios", false);
+    for (double l : L)
+      if (const std::string rule = lg::liftRatioRule(l); !rule.empty()) throw lg::InputError("command line", 0, "--lift-ratios", rule);
     for (double l : L)
       if (l > 0 && scene.roles.lifts.empty())
         throw lg::InputError("command line", 0, "--lift-ratios", "value " + lg::fmt(l) + ": the scene declares no lift element");

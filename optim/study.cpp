@@ -14,6 +14,7 @@
 #include "sim/io/files.hpp"
 #include "sim/io/toml_reader.hpp"
 #include "sim/metrics.hpp"
+#include "sim/scene_check.hpp"
 
 namespace lg::optim {
 
@@ -264,11 +265,10 @@ void parseCases(const toml::table& doc, const std::string& file, Study& s) {
     }
     if (r.has("sink_speed")) {
       c.dropCase.sinkSpeed = r.number("sink_speed");
-      if (!(c.dropCase.sinkSpeed > 0))
-        r.fail("sink_speed", "value " + fmt(c.dropCase.sinkSpeed) + " must be > 0 [m/s]: a drop starts moving (the "
-                             "efficiency and the energy balance are measured against the initial kinetic energy)");
+      if (const std::string rule = sinkSpeedRule(c.dropCase.sinkSpeed); !rule.empty()) r.fail("sink_speed", rule);
     }
     c.dropCase.liftRatio = r.nonNegative("lift_ratio", c.dropCase.liftRatio);
+    if (const std::string rule = liftRatioRule(c.dropCase.liftRatio); !rule.empty()) r.fail("lift_ratio", rule);
     c.dropCase.duration = r.positive("duration", c.dropCase.duration);
     if (c.dropCase.liftRatio > 0 && s.scene.roles.lifts.empty())
       r.fail("lift_ratio", "the scene declares no lift element");

@@ -29,6 +29,7 @@ std::string CaseMetrics::limitViolations() const {
   std::string out;
   auto add = [&](const std::string& s) { out += (out.empty() ? "" : "; ") + s; };
   if (bottomed) add("bottomed");
+  if (ok && !compression_ended) add("compression not ended (the run ended before h reached its maximum: a longer duration)");
   for (const auto& s : struts)
     if (s.stroke_margin_m < 0 && !bottomed)
       add("strut '" + s.name + "' stroke " + shortNumber(s.stroke_max_m) + " m > S_max " + shortNumber(s.stroke_limit_m) + " m");

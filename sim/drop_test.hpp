@@ -98,7 +98,8 @@ struct CaseMetrics {
   std::string accuracy_rerun_reason;   // why it was run again (nextReason of each run), empty if it was not
   double wall_time_s = 0;
 
-  // Within every declared limit: no bottoming, every stroke margin >= 0, every tyre within delta_max.
+  // Within every declared limit: no bottoming, every stroke margin >= 0, every tyre within delta_max, and
+  // the compression ended within the run (a run cut short measured no peak).
   bool withinLimits() const;
   // The limits it breaks, for people ("bottomed", "tyre 0.1096 m > delta_max 0.1 m"); empty if none.
   std::string limitViolations() const;

@@ -48,10 +48,8 @@ class Checker {
     for (size_t c = 0; c < sc_.cases.size(); ++c) {
       const DropCase& d = sc_.cases[c];
       const int i = static_cast<int>(c);
-      if (!(d.sinkSpeed > 0))
-        return problem("case", i, "sink_speed", "value " + num(d.sinkSpeed) + " must be > 0 [m/s]: a drop starts moving (the "
-                                                 "efficiency and the energy balance are measured against the initial kinetic energy)");
-      if (!(d.liftRatio >= 0)) return problem("case", i, "lift_ratio", "value " + num(d.liftRatio) + " must be >= 0");
+      if (const std::string rule = sinkSpeedRule(d.sinkSpeed); !rule.empty()) return problem("case", i, "sink_speed", rule);
+      if (const std::string rule = liftRatioRule(d.liftRatio); !rule.empty()) return problem("case", i, "lift_ratio", rule);
       if (!(d.duration > 0)) return problem("case", i, "duration", "value " + num(d.duration) + " must be > 0");
     }
     return std::nullopt;
@@ -151,6 +149,11 @@ class Checker {
         sc_.roles.bottomingStops[index] = ci;
       }
     }
+    for (const auto& [table, key] : {std::pair{s.f1Table.get(), "f1_table"}, std::pair{s.f1eTable.get(), "f1_extension_table"}})
+      if (table && table->xMax() > 100 * reach)
+        return problem("force", f, key, "the table's strokes reach " + num(table->xMax()) + " m, " + num(table->xMax() / reach) +
+                                            " times the stroke the strut can reach, " + num(reach) +
+                                            " m: its stroke column in mm? (strokes in m)");
     if (s.f1Table && s.f1Table->xMax() < reach - 1e-12)
       return problem("force", f, "f1_table", "table ends at stroke " + num(s.f1Table->xMax()) + " m but the strut can reach " +
                                                  num(reach) + " m");
@@ -165,6 +168,13 @@ class Checker {
   std::optional<SceneProblem> tyre(int f, const Tyre<double>& t) const {
     for (const auto& [key, v] : {std::pair<const char*, double>{"radius", t.radius}, {"delta_max", t.deltaMax}})
       if (auto p = positive(f, key, v)) return p;
+    if (!(t.deltaMax < t.radius))
+      return problem("force", f, "delta_max", "value " + num(t.deltaMax) + " m is not below the tyre's radius " + num(t.radius) +
+                                                  " m: a deflection limit in mm?");
+    if (t.law == TyreLaw::Table && t.curve->xMax() > 100 * t.deltaMax)
+      return problem("force", f, "load_table", "the table's deflections reach " + num(t.curve->xMax()) + " m, " +
+                                                   num(t.curve->xMax() / t.deltaMax) + " times delta_max = " + num(t.deltaMax) +
+                                                   " m: its deflection column in mm? (the header reads deflection[m])");
     if (t.law != TyreLaw::Table)
       if (auto p = positive(f, "K", t.K)) return p;
     if (!(t.alpha >= 0)) return problem("force", f, "alpha", "value " + num(t.alpha) + " must be >= 0");
@@ -212,6 +222,24 @@ class Checker {
 };
 
 }  // namespace
+
+std::string sinkSpeedRule(double v) {
+  if (!(v > 0))
+    return "value " + num(v) + " must be > 0 [m/s]: a drop starts moving (the efficiency and the energy balance are "
+                               "measured against the initial kinetic energy)";
+  if (v > kMaxSinkSpeed)
+    return "value " + num(v) + " m/s is above 10 m/s, no landing's sink speed (the rules' drops are 1.83 .. 3.66 m/s): "
+                               "a speed in mm/s or ft/s?";
+  return "";
+}
+
+std::string liftRatioRule(double v) {
+  if (!(v >= 0)) return "value " + num(v) + " must be >= 0";
+  if (v > kMaxLiftRatio)
+    return "value " + num(v) + " is above 1.5: the lift ratio L is the wing's lift over the weight (the rules' drops use "
+                               "L <= 1)";
+  return "";
+}
 
 std::optional<SceneProblem> checkScene(Scene& scene) { return Checker(scene).run(); }
 

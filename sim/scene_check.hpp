@@ -10,6 +10,15 @@
 
 namespace lg {
 
+// The plausible range of a drop's numbers, where a value outside is a unit mistake or a typing one, not
+// a gear: a sink speed above 10 m/s (33 ft/s; the rules ask 1.83 .. 3.66 m/s, "3050" is mm/s), a lift
+// ratio above 1.5. The rule in words for a value that breaks one, else empty: the scene's cases, a
+// study's and the command line's matrices are held to the same.
+constexpr double kMaxSinkSpeed = 10.0;  // [m/s]
+constexpr double kMaxLiftRatio = 1.5;   // [-]
+std::string sinkSpeedRule(double v);
+std::string liftRatioRule(double v);
+
 // A rule a scene's value breaks, located the way the scene file lays it out.
 struct SceneProblem {
   std::string array;  // the scene file's array: "body", "stop", "force" or "case"
