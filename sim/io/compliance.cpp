@@ -454,6 +454,13 @@ std::string complianceSummary(const Compliance& c) {
   for (const auto& v : c.cases) line(v);
   for (const auto& u : c.unit) o << "unit: " << u.name << " = " << sig(u.value, 4) << " >= " << sig(u.bound, 4) << ": " << (u.pass ? "PASS" : "FAIL") << "\n";
   for (const auto& v : c.checks) line(v);
+  for (const auto& v : c.checks)
+    if (std::abs(v.cert.mass - c.spec->landingMass) > 1e-9 * c.spec->landingMass && c.spec->landingMass > 0) {
+      std::snprintf(b, sizeof b, "note: the scene's own cases run at their own masses (%s: %.0f kg), the matrix at W = %.0f kg\n",
+                    v.name.c_str(), v.cert.mass, c.spec->landingMass);
+      o << b;
+      break;
+    }
   auto over = [&](const EnvelopeVerdict& ev) {
     o << "envelope: " << ev.name << ": " << (ev.pass ? "PASS" : "FAIL") << " at " << ev.at.size() - ev.failing << " of "
       << ev.at.size() << " points";
