@@ -229,8 +229,49 @@ std::vector<ChannelStats> channelStats(const Measurement& m, const Simulated& s)
     const double n = static_cast<double>(m.t.size());
     st.mean = sum / n;
     st.rms = std::sqrt(sq / n);
+    double num = 0, den = 0;
+    for (std::size_t i = 0; i < m.t.size(); ++i) {
+      const double d = s.y[c][i] - m.y[c][i] - st.mean;
+      den += d * d;
+      if (i + 1 < m.t.size()) num += d * (s.y[c][i + 1] - m.y[c][i + 1] - st.mean);
+    }
+    if (den > 0 && m.t.size() > 2) st.lag1 = num / den;
   }
   return out;
+}
+
+// What the residuals at the optimum say of the noise model: s^2 far from 1 where every fitted channel's
+// sigma is given (the stated noise and the residuals disagree: a sigma in other units, or a misfit); a
+// channel whose fitted RMS is many sigma; residuals so autocorrelated that the intervals, which assume
+// independent noise, are too narrow.
+static void residualWarnings(const Calibration& c, FitResult& r) {
+  bool allSigma = true, anyFitted = false;
+  for (const auto& m : c.measurements)
+    for (const auto& ch : m.channels)
+      if (ch.fitted()) {
+        anyFitted = true;
+        allSigma = allSigma && std::isfinite(ch.sigma);
+      }
+  if (anyFitted && allSigma && (r.s2 > 4 || r.s2 < 0.25))
+    r.warnings.push_back("s^2 = " + number(r.s2) + " with every sigma given (1 where the residuals are the stated noise): the "
+                         "residuals are " + number(std::sqrt(r.s2)) + " times the sigma; a sigma in another unit than its "
+                         "channel, or a model that misses the data (the intervals are scaled by s)");
+  for (std::size_t k = 0; k < c.measurements.size() && k < r.measurements.size(); ++k) {
+    const Measurement& m = c.measurements[k];
+    const auto& stats = r.measurements[k].statsAfter;
+    for (std::size_t j = 0; j < m.channels.size() && j < stats.size(); ++j) {
+      const Channel& ch = m.channels[j];
+      if (!ch.fitted()) continue;
+      const std::string who = "measurement '" + m.name + "', channel " + ch.name + ": ";
+      if (std::isfinite(ch.sigma) && stats[j].rms > 5 * ch.sigma)
+        r.warnings.push_back(who + "the fitted RMS residual " + number(stats[j].rms) + " " + ch.unit + " is " +
+                             number(stats[j].rms / ch.sigma) + " sigma (sigma = " + number(ch.sigma) + " " + ch.unit +
+                             "): a channel in another unit, or a model that misses it");
+      if (stats[j].lag1 > 0.8)
+        r.warnings.push_back(who + "the residuals' lag-1 autocorrelation is " + number(stats[j].lag1) +
+                             ": they are a slow misfit, not independent noise, and the intervals (statistical only) are too narrow");
+    }
+  }
 }
 
 namespace {
@@ -406,6 +447,7 @@ FitResult runFit(const Calibration& c, const FitOptions& o) {
   }
   analyseOptimum(c, evals, second, haveSecond, problem, u, shifts, r);
   simulateHistories(c, o, r);
+  residualWarnings(c, r);
   if (stopped(o)) r.interrupted = true;
   return r;
 }

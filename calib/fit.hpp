@@ -31,6 +31,9 @@ namespace lg::calib {
 struct ChannelStats {
   double mean = 0, rms = 0, maxAbs = 0;
   double tMaxAbs = 0;  // [s] measured time of the largest |r|
+  // [-] lag-1 autocorrelation of r about its mean: sum (r_i - m)(r_i+1 - m) / sum (r_i - m)^2; near 0 for
+  // independent noise, near 1 where the residual is a slow misfit the noise model does not describe
+  double lag1 = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct MeasurementFit {

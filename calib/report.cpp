@@ -47,7 +47,7 @@ std::string caseJson(const DropCase& d) {
 
 std::string statsJson(const ChannelStats& s) {
   return "{\"mean\": " + jsonNumber(s.mean) + ", \"rms\": " + jsonNumber(s.rms) + ", \"max_abs\": " + jsonNumber(s.maxAbs) +
-         ", \"t_max_abs_s\": " + jsonNumber(s.tMaxAbs) + "}";
+         ", \"t_max_abs_s\": " + jsonNumber(s.tMaxAbs) + ", \"lag1_autocorrelation\": " + jsonNumber(s.lag1) + "}";
 }
 
 std::string matrixJson(const Eigen::MatrixXd& M) {
@@ -252,7 +252,9 @@ std::string parametersSection(const Calibration& c, const FitResult& r) {
     << r.residuals << " fitted samples, n = " << r.unknowns << " unknowns, " << r.dof << " degrees of freedom); the "
     << "interval is value +- t sd with Student's t = " << shortNumber(r.t, 5) << ". The residual variance is estimated from "
     << "the fit, so the standard deviations hold whatever the weights' scale; with sigma given per channel, s^2 near 1 says "
-    << "the stated noise matches the residuals.";
+    << "the stated noise matches the residuals. The uncertainties are statistical only: they assume independent noise "
+       "of constant variance and exclude the model's form error and the residuals' autocorrelation (the lag-1 "
+       "autocorrelation of each channel's residuals is in the table below; near 1 the intervals are too narrow).";
   if (c.fit.loss != Loss::None)
     m << " With the robust loss (" << lossName(c.fit.loss) << ", scale " << shortNumber(c.fit.lossScale)
       << ") Ceres's covariance uses the loss-corrected Jacobian, and s^2 is estimated robustly, s = 1.4826 median |r| "
@@ -280,7 +282,7 @@ std::string parametersSection(const Calibration& c, const FitResult& r) {
 std::string residualsSection(const Calibration& c, const FitResult& r, const std::string& note) {
   std::ostringstream m;
   m << "## Residuals (simulated - measured) per channel\n\n| measurement | channel | unit | fitted | before: mean | RMS | "
-       "max abs | after: mean | RMS | max abs (at t [s]) |\n|---|---|---|---|---|---|---|---|---|---|\n";
+       "max abs | after: mean | RMS | max abs (at t [s]) | lag-1 autocorrelation |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < c.measurements.size(); ++k) {
     const Measurement& me = c.measurements[k];
     const MeasurementFit& f = r.measurements[k];
@@ -289,7 +291,7 @@ std::string residualsSection(const Calibration& c, const FitResult& r, const std
       m << "| " << me.name << " | " << me.channels[i].name << " | " << me.channels[i].unit << " | "
         << (me.channels[i].fitted() ? "yes" : "no") << " | " << shortNumber(b.mean, 3) << " | " << shortNumber(b.rms, 3) << " | "
         << shortNumber(b.maxAbs, 3) << " | " << shortNumber(a.mean, 3) << " | " << shortNumber(a.rms, 3) << " | "
-        << shortNumber(a.maxAbs, 3) << " (" << shortNumber(a.tMaxAbs, 4) << ") |\n";
+        << shortNumber(a.maxAbs, 3) << " (" << shortNumber(a.tMaxAbs, 4) << ") | " << shortNumber(a.lag1, 3) << " |\n";
     }
   }
   m << "\n";

@@ -181,3 +181,48 @@ TEST_CASE("calibrate: the shipped example recovers the parameters its data were 
   std::printf("shipped: s^2 = %.4f (%zu dof), %d iterations\n", r.s2, r.dof, r.iterations);
   CHECK(std::abs(r.s2 - 1) < 3 * std::sqrt(2.0 / static_cast<double>(r.dof)));
 }
+
+// A load channel written in kN while its sigma is in N: the fit "converges" on a model that cannot meet
+// the data, and calibrate says so: s^2 far from 1 with every sigma given, the channel's RMS many sigma,
+// and residuals that are a slow misfit (lag-1 autocorrelation near 1), not independent noise.
+TEST_CASE("calibrate: a channel in kN with sigma in N is named, with s^2 and the residuals' autocorrelation",
+          "[calib][cli]") {
+  TempDir dir("kN");
+  std::istringstream in(limitCsv(kTruth, 0.005, 1, 11));
+  std::ostringstream csv;
+  int column = -1;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') {
+      csv << line << "\n";
+      continue;
+    }
+    std::vector<std::string> f;
+    for (std::size_t a = 0, b; a <= line.size(); a = b + 1) {
+      b = line.find(',', a);
+      if (b == std::string::npos) b = line.size();
+      f.push_back(line.substr(a, b - a));
+    }
+    if (column < 0) {
+      for (std::size_t k = 0; k < f.size(); ++k)
+        if (f[k] == "Fz_N") column = static_cast<int>(k);
+      REQUIRE(column >= 0);
+    } else {
+      char b[40];
+      std::snprintf(b, sizeof b, "%.9g", std::stod(f[column]) / 1000);  // kN under the N header
+      f[column] = b;
+    }
+    for (std::size_t k = 0; k < f.size(); ++k) csv << (k ? "," : "") << f[k];
+    csv << "\n";
+  }
+  writeFile(dir / "drop.csv", csv.str());
+  writeFile(dir / "c.cfg", calibText("drop.csv", "sigma = { P_y = 500.0, s = 2e-4, h = 2e-4 }", parameter("strut.p01", 2e6, 4e6)));
+  std::string out;
+  (void)run("calibrate", q(dir / "c.cfg") + " --out " + q(dir / "o") + " --threads 2", out);
+  const std::string report = readFile(dir / "o/report.md");
+  INFO(out);
+  CHECK(report.find("with every sigma given (1 where the residuals are the stated noise)") != std::string::npos);
+  CHECK(report.find("channel P_y: the fitted RMS residual") != std::string::npos);
+  CHECK(report.find("lag-1 autocorrelation is") != std::string::npos);
+  CHECK(report.find("The uncertainties are statistical only") != std::string::npos);
+  CHECK(readFile(dir / "o/result.json").find("\"lag1_autocorrelation\": ") != std::string::npos);
+}
