@@ -541,7 +541,8 @@ PlotLimits compliancePlotLimits(const Scene& scene, const Certification& spec, c
   PlotLimits l = sceneLimits(scene);
   const double Wg = v.cert.mass * scene.gravity;
   if (v.role != "check") {
-    l.loadLimit = spec.limitGroundFactor() * Wg;
+    // (the reserve-energy drop is held to the ultimate load: the limit load is no limit of it, and not drawn)
+    l.loadLimit = v.cert.kind == CertKind::Reserve ? std::nan("") : spec.limitGroundFactor() * Wg;
     l.loadUltimate = spec.ultimateFactor * spec.limitGroundFactor() * Wg;
   }
   if (std::isfinite(l.strokeLimit)) l.strokeMargin = l.strokeLimit - spec.strokeMargin;

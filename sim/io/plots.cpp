@@ -2,6 +2,7 @@
 #include "sim/io/plots.hpp"
 
 #include <cctype>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -59,16 +60,23 @@ Rows rowsOf(const CaseFigure& f, const CaseResult& r) {
 
 // The phases of a drop for the work diagrams: 0 the compression (up to the maximum of x), 1 the return
 // stroke (until the tyres leave the ground or the strut is extended, or a second compression begins),
-// 2 after it.
+// 2 after it. A second compression is a rise of x by more than 1e-3 of its maximum above the lowest
+// value since the turn: where Coulomb friction holds the strut at its turn, x stands still to round-off,
+// and such a wiggle is no second compression.
 std::vector<int> phases(const std::vector<double>& x, const std::vector<double>& back) {
   size_t iMax = 0;
   for (size_t i = 0; i < x.size(); ++i)
     if (x[i] > x[iMax]) iMax = i;
   std::vector<int> p(x.size(), 2);
   for (size_t i = 0; i <= iMax && i < x.size(); ++i) p[i] = 0;
+  if (x.empty()) return p;
+  const double rise = 1e-3 * std::abs(x[iMax]);
+  double lowest = x[iMax];
   for (size_t i = iMax + 1; i < x.size(); ++i) {  // up to lift-off, or the turn into a second compression
+    lowest = std::min(lowest, x[i]);
+    if (x[i] > lowest + rise) break;
     p[i] = 1;
-    if (!(back[i] > 0) || (i + 1 < x.size() && x[i + 1] > x[i])) break;
+    if (!(back[i] > 0)) break;
   }
   return p;
 }
@@ -148,7 +156,9 @@ bool drawCaseFigure(const CaseFigure& f, const std::string& dir, const std::stri
   std::ostringstream gp;
   gp << "set terminal pngcairo size 1400,1300 noenhanced font ',10'\n";
   gp << "set output " << quoted(stem + ".png") << "\n";
-  gp << "set multiplot layout 3,2 title " << quoted(f.title) << "\nset grid\nset key top right\n";
+  // Headroom above every curve and limit line for the legend, which is opaque: labels never sit on a curve.
+  gp << "set multiplot layout 3,2 title " << quoted(f.title) << "\nset grid\nset key top right opaque\n"
+     << "set offsets 0, 0, graph 0.22, 0\n";
   auto series = [&](const std::string& x, const std::string& y, int phaseColumn) {
     const bool split = phaseColumn > 0;
     const std::string ph = "$" + std::to_string(phaseColumn);
@@ -176,7 +186,8 @@ bool drawCaseFigure(const CaseFigure& f, const std::string& dir, const std::stri
      << hline(L.loadLimit * kN, "#d62728", "limit load [kN]") << hline(L.loadUltimate * kN, "#8c564b", "ultimate load [kN]")
      << "\n";
   // P_y(h)
-  gp << "set title 'work diagram P_y(h), compression and return stroke'\nset xlabel 'h [m]'\nset ylabel 'P_y [kN]'\n";
+  // (the work diagrams' legends top left, in the headroom: their loops reach the right end low and high)
+  gp << "set key top left\nset title 'work diagram P_y(h), compression and return stroke'\nset xlabel 'h [m]'\nset ylabel 'P_y [kN]'\n";
   double lo = 0, hi = 0;
   workRange(rows.h, rows.Py, lo, hi);
   if (base) {
@@ -187,13 +198,13 @@ bool drawCaseFigure(const CaseFigure& f, const std::string& dir, const std::stri
   }
   gp << "set xrange [" << num(lo - 0.03 * (hi - lo)) << ":" << num(hi + 0.03 * (hi - lo)) << "]\n";
   gp << series("2", "($3/1000)", 7) << hline(L.loadLimit * kN, "#d62728", "limit load [kN]")
-     << hline(L.loadUltimate * kN, "#8c564b", "ultimate load [kN]") << "\nset autoscale x\n";
+     << hline(L.loadUltimate * kN, "#8c564b", "ultimate load [kN]") << "\nset autoscale x\nset key top right\n";
   // s(t)
   gp << "set title 'stroke s(t)'\nset xlabel 't [s]'\nset ylabel 's [m]'\n";
   gp << series("1", "($4)", 0) << hline(L.strokeLimit, "#d62728", "S_max (bottoming) [m]")
      << (L.strokeMargin != L.strokeLimit ? hline(L.strokeMargin, "#ff7f0e", "S_max - margin [m]") : "") << "\n";
   // P_a(s)
-  gp << "set title 'strut work diagram P_a(s), compression and return stroke'\nset xlabel 's [m]'\nset ylabel 'P_a [kN]'\n";
+  gp << "set key top left\nset title 'strut work diagram P_a(s), compression and return stroke'\nset xlabel 's [m]'\nset ylabel 'P_a [kN]'\n";
   workRange(rows.s, rows.s, lo, hi);
   if (std::isfinite(L.strokeLimit)) hi = std::max(hi, L.strokeLimit);
   gp << "set xrange [" << num(lo - 0.03 * (hi - lo)) << ":" << num(hi + 0.03 * (hi - lo)) << "]\n";
@@ -204,7 +215,7 @@ bool drawCaseFigure(const CaseFigure& f, const std::string& dir, const std::stri
       gp << "set arrow from first " << num(L.strokeMargin) << ", graph 0 to first " << num(L.strokeMargin)
          << ", graph 1 nohead dt 2 lw 2 lc rgb '#ff7f0e'\n";
   }
-  gp << series("4", "($5/1000)", 8) << "\nunset arrow\nset autoscale x\n";
+  gp << series("4", "($5/1000)", 8) << "\nunset arrow\nset autoscale x\nset key top right\n";
   // h(t)
   gp << "set title 'airframe travel h(t)'\nset xlabel 't [s]'\nset ylabel 'h [m]'\n";
   gp << series("1", "($2)", 0) << "\n";
