@@ -226,6 +226,10 @@ void printTable(const std::vector<lg::CaseResult>& results) {
     if (std::isfinite(m.accuracy_rerun))
       std::printf("%s: %s: run again at accuracy %.3g for its time\n", m.name.c_str(), m.accuracy_rerun_reason.c_str(),
                   m.accuracy_rerun);
+    if (m.ok && m.longitudinal)
+      std::printf("%s: drag at V_x = %.1f m/s: spin-up %.1f kN at %.4f s, spring-back %.1f kN at %.4f s, P_x/P_y at P_y,max %.3f\n",
+                  m.name.c_str(), m.forward_speed_mps, m.drag_peak_N / 1e3, m.t_drag_peak_s, m.springback_peak_N / 1e3,
+                  m.t_springback_s, m.peak_load_N > 0 ? m.drag_at_peak_N / m.peak_load_N : NAN);
   }
 }
 

@@ -16,6 +16,23 @@
 namespace fs = std::filesystem;
 
 namespace lg::optim {
+// The parts of a one-sidedness note (drop_gradient.hpp: its reasons joined by "; ") that hold for the
+// derivative in 'path': the lift plateau's is one-sided in the lift ratio alone, the others in every
+// parameter.
+std::string oneSidedFor(const std::string& note, const std::string& path) {
+  const bool lift = path.size() >= 11 && path.compare(path.size() - 11, 11, ".lift_ratio") == 0;
+  std::string out;
+  for (std::size_t a = 0; a < note.size();) {
+    std::size_t b = note.find("; ", a);
+    if (b == std::string::npos) b = note.size();
+    const std::string part = note.substr(a, b - a);
+    if (lift || part.find("its derivative in the lift ratio is one-sided") == std::string::npos)
+      out += (out.empty() ? "" : "; ") + part;
+    a = b + 2;
+  }
+  return out;
+}
+
 namespace {
 
 // Marks where a picture goes in the markdown (a control character: never in a name of the study).
@@ -92,26 +109,27 @@ std::string localSection(const Study& s, const SensitivityResult& r) {
     m << "\n| *baseline [" << r.outputs[ks[0]].unit << "]* |";
     for (std::size_t k : ks) m << " *" << shortNumber(L.outputs[k].baseline) << "* |";
     m << "\n";
-    // One footnote per distinct one-sidedness note, numbered in the order of the cases.
+    // One footnote per distinct one-sidedness note, numbered in the order they first apply; each cell is
+    // marked only where its note applies to its variable (a kink in the lift ratio alone marks lift_ratio).
     std::vector<std::string> notes;
-    std::vector<std::vector<std::string>> noteCases;
-    auto noteOf = [&](std::size_t k) -> std::size_t {  // 0: none, else the footnote's number
-      if (k >= L.oneSided.size() || L.oneSided[k].empty()) return 0;
-      return static_cast<std::size_t>(std::find(notes.begin(), notes.end(), L.oneSided[k]) - notes.begin()) + 1;
+    std::vector<std::vector<std::string>> noteCells;  // per note: "case (variable)" where it applies
+    auto noteFor = [&](std::size_t k, const std::string& path) {
+      return k < L.oneSided.size() ? oneSidedFor(L.oneSided[k], path) : std::string();
     };
-    for (std::size_t k : ks) {
-      if (k >= L.oneSided.size() || L.oneSided[k].empty()) continue;
-      if (noteOf(k) > notes.size()) {
-        notes.push_back(L.oneSided[k]);
-        noteCases.emplace_back();
-      }
-      noteCases[noteOf(k) - 1].push_back(r.outputs[k].caseName);
-    }
+    auto numberOf = [&](const std::string& note) -> std::size_t {
+      if (note.empty()) return 0;
+      const auto it = std::find(notes.begin(), notes.end(), note);
+      if (it != notes.end()) return static_cast<std::size_t>(it - notes.begin()) + 1;
+      notes.push_back(note);
+      noteCells.emplace_back();
+      return notes.size();
+    };
     for (std::size_t i = 0; i < s.variables.size(); ++i) {
       m << "| " << s.variables[i].path << " |";
       for (std::size_t k : ks) {
         const uq::Elasticities& e = L.outputs[k];
-        const std::size_t n = noteOf(k);
+        const std::size_t n = numberOf(noteFor(k, s.variables[i].path));
+        if (n) noteCells[n - 1].push_back(r.outputs[k].caseName + " (" + s.variables[i].path + ")");
         m << " " << (e.why[i].empty() ? shortNumber(e.E[i], 4) : "undefined: " + e.why[i])
           << (n ? " (" + std::to_string(n) + ")" : "") << " |";
       }
@@ -119,7 +137,7 @@ std::string localSection(const Study& s, const SensitivityResult& r) {
     }
     for (std::size_t n = 0; n < notes.size(); ++n) {
       m << "\n(" << n + 1 << ") one-sided in ";
-      for (std::size_t c = 0; c < noteCases[n].size(); ++c) m << (c ? ", " : "") << noteCases[n][c];
+      for (std::size_t c = 0; c < noteCells[n].size(); ++c) m << (c ? ", " : "") << noteCells[n][c];
       m << ": " << notes[n] << "\n";
     }
     m << "\n" << kMark << "tornado_" << safeFileStem(metric) << kMark << "\n\n";
@@ -348,6 +366,7 @@ std::string sensitivityMarkdown(const Study& s, const SensitivityResult& r, cons
     m << (k ? "," : "") << " " << r.settings.metrics[k] << " [" << findMetric(r.settings.metrics[k])->unit << "]";
   m << "\n- methods:" << (r.local ? " local" : "") << (r.morris ? " morris" : "") << (r.sobol ? " sobol" : "")
     << "; seed " << r.settings.seed << "; " << r.designs << " designs, " << r.drops << " drops in all\n";
+  m << "- drop-test solver: " << s.solverChoice << "\n";
   m << "- the global methods sample each variable uniformly in its scaled coordinate: uniform between its bounds, "
        "log-uniform where `log = true`\n\n";
   m << "| variable | unit | lower | upper | scale | baseline |\n|---|---|---|---|---|---|\n";

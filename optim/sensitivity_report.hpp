@@ -29,6 +29,9 @@ std::string indicesCsv(const Study& s, const SensitivityResult& r, const std::st
 std::string convergenceCsv(const Study& s, const SensitivityResult& r);
 // note: empty when the pictures were made, otherwise why not (said in the report instead of them).
 std::string sensitivityMarkdown(const Study& s, const SensitivityResult& r, const std::string& note);
+// The parts of a local derivative's one-sidedness note (its reasons joined by "; ") that hold for the
+// parameter 'path': the lift plateau's is one-sided in the lift ratio alone, the others in every one.
+std::string oneSidedFor(const std::string& note, const std::string& path);
 
 struct SensitivityFiles {
   std::vector<std::string> written;   // file names relative to the output directory

@@ -36,7 +36,8 @@ std::string quoted(const std::string& s) {
 
 // The channels a figure draws, by row: t h P_y s P_a delta (NaN where the scene has none).
 struct Rows {
-  std::vector<double> t, h, Py, s, Pa, delta;
+  std::vector<double> t, h, Py, s, Pa, delta, Px;
+  bool drag = false;  // the run has a drag load (a tyre that declares mu_x)
 };
 Rows rowsOf(const CaseFigure& f, const CaseResult& r) {
   auto col = [&](const std::string& base, const std::string& element) {
@@ -44,8 +45,9 @@ Rows rowsOf(const CaseFigure& f, const CaseResult& r) {
     return c >= 0 ? c : r.column(base + "_" + element);
   };
   const int ch = col("h", ""), cP = col("P_y", ""), cs = col("s", f.strut), ca = col("P_a", f.strut),
-            cd = col("delta", f.tyre);
+            cd = col("delta", f.tyre), cx = col("P_x", f.tyre);
   Rows out;
+  out.drag = cx >= 0;
   for (const Sample& x : r.samples) {
     auto v = [&](int c) { return c >= 0 ? x.values[c] : std::numeric_limits<double>::quiet_NaN(); };
     out.t.push_back(x.t);
@@ -54,6 +56,7 @@ Rows rowsOf(const CaseFigure& f, const CaseResult& r) {
     out.s.push_back(v(cs));
     out.Pa.push_back(v(ca));
     out.delta.push_back(v(cd));
+    out.Px.push_back(v(cx));
   }
   return out;
 }
@@ -86,15 +89,16 @@ std::vector<int> phases(const std::vector<double>& x, const std::vector<double>&
 std::string samplesData(const Rows& r) {
   const std::vector<int> gear = phases(r.h, r.Py), strut = phases(r.s, r.s);
   std::ostringstream d;
-  d << "# t[s] h[m] P_y[N] s[m] P_a[N] delta[m] gear_phase strut_phase (0 compression, 1 return, 2 after the return)\n";
+  d << "# t[s] h[m] P_y[N] s[m] P_a[N] delta[m] gear_phase strut_phase (0 compression, 1 return, 2 after the return) P_x[N]\n";
   const size_t n = r.t.size();
   for (size_t i = 0; i < n; ++i) {
     const std::string values = num(r.t[i]) + " " + num(r.h[i]) + " " + num(r.Py[i]) + " " + num(r.s[i]) + " " +
                                num(r.Pa[i]) + " " + num(r.delta[i]);
-    d << values << " " << gear[i] << " " << strut[i] << "\n";
+    const std::string px = " " + num(r.Px[i]);
+    d << values << " " << gear[i] << " " << strut[i] << px << "\n";
     // the return starts where the compression ends
-    if (i + 1 < n && (gear[i] == 0) != (gear[i + 1] == 0)) d << values << " 1 " << strut[i] << "\n";
-    if (i + 1 < n && (strut[i] == 0) != (strut[i + 1] == 0)) d << values << " " << gear[i] << " 1\n";
+    if (i + 1 < n && (gear[i] == 0) != (gear[i + 1] == 0)) d << values << " 1 " << strut[i] << px << "\n";
+    if (i + 1 < n && (strut[i] == 0) != (strut[i + 1] == 0)) d << values << " " << gear[i] << " 1" << px << "\n";
   }
   return d.str();
 }
@@ -154,10 +158,11 @@ bool drawCaseFigure(const CaseFigure& f, const std::string& dir, const std::stri
   const std::string dat = quoted(stem + ".dat"), bdat = quoted(stem + "_baseline.dat");
   const PlotLimits& L = f.limits;
   std::ostringstream gp;
-  gp << "set terminal pngcairo size 1400,1300 noenhanced font ',10'\n";
+  // (a fourth row with the drag load where a tyre declares mu_x: wheel spin-up)
+  gp << "set terminal pngcairo size 1400," << (rows.drag ? 1700 : 1300) << " noenhanced font ',10'\n";
   gp << "set output " << quoted(stem + ".png") << "\n";
   // Headroom above every curve and limit line for the legend, which is opaque: labels never sit on a curve.
-  gp << "set multiplot layout 3,2 title " << quoted(f.title) << "\nset grid\nset key top right opaque\n"
+  gp << "set multiplot layout " << (rows.drag ? 4 : 3) << ",2 title " << quoted(f.title) << "\nset grid\nset key top right opaque\n"
      << "set offsets 0, 0, graph 0.22, 0\n";
   auto series = [&](const std::string& x, const std::string& y, int phaseColumn) {
     const bool split = phaseColumn > 0;
@@ -222,6 +227,15 @@ bool drawCaseFigure(const CaseFigure& f, const std::string& dir, const std::stri
   // delta(t)
   gp << "set title 'tyre deflection delta(t) (0 when airborne)'\nset xlabel 't [s]'\nset ylabel 'delta [m]'\n";
   gp << series("1", "($6>0?$6:0)", 0) << hline(L.tyreLimit, "#d62728", "tyre limit [m]") << "\n";
+  if (rows.drag) {  // the drag load: spin-up (aft, positive) and spring-back (forward, negative), marked
+    gp << "set title 'drag load P_x(t): wheel spin-up and spring-back'\nset xlabel 't [s]'\nset ylabel 'P_x [kN]'\n"
+       << "set offsets 0, 0, graph 0.22, graph 0.1\n";
+    gp << series("1", "($9/1000)", 0) << ", '+' using (" << num(M.t_drag_peak_s) << "):(" << num(M.drag_peak_N * kN)
+       << ") every ::0::0 with points pt 7 ps 1.5 lc rgb '#d62728' title 'spin-up " << num(std::round(M.drag_peak_N)) << " N'"
+       << ", '+' using (" << num(M.t_springback_s) << "):(" << num(-M.springback_peak_N * kN)
+       << ") every ::0::0 with points pt 5 ps 1.5 lc rgb '#2ca02c' title 'spring-back " << num(std::round(M.springback_peak_N))
+       << " N'\n";
+  }
   gp << "unset multiplot\n";
   writeFileAtomic((d / (stem + ".gp")).string(), gp.str());
   if (!run) return true;

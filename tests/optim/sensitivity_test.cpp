@@ -285,3 +285,15 @@ TEST_CASE("sensitivity: failed runs are counted, located and dropped by whole So
   }
   CHECK(convergenceCsv(s, r2) == convergenceCsv(s, r1));
 }
+
+// The local table marks a one-sided derivative only where its kink bends that parameter: the lift
+// plateau (after lift-off with L = 1) in the lift ratio alone, two close humps in every parameter.
+TEST_CASE("sensitivity: a one-sided note applies per parameter", "[optim][sensitivity]") {
+  const std::string humps = "two maxima of P_y within 0.05 % (at t = 0.05 s and 0.2 s): the peak can jump between them";
+  const std::string plateau = "lift equal to the weight: after lift-off no net force acts, and with L > 1 the largest upward "
+                              "velocity moves to the end of the run: its derivative in the lift ratio is one-sided (the side of L <= 1)";
+  CHECK(oneSidedFor(humps + "; " + plateau, "strut.f1") == humps);
+  CHECK(oneSidedFor(humps + "; " + plateau, "limit.lift_ratio") == humps + "; " + plateau);
+  CHECK(oneSidedFor(plateau, "tyre.K").empty());
+  CHECK(oneSidedFor("", "limit.lift_ratio").empty());
+}

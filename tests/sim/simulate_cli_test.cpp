@@ -360,7 +360,9 @@ TEST_CASE("simulate --accuracy: the stiffness hand-over and its handed-back tria
   // limit-spinup: ros34pw2's trial costs more and is handed back; reserve-spinup never reaches the bound.
   CHECK(text.find("limit-spinup: dopri5 at its stability bound, but ros34pw2 cost more on 1 trial(s): dopri5 "
                   "throughout\n") != std::string::npos);
-  CHECK(text.find("reserve-spinup:") == std::string::npos);
+  CHECK(text.find("reserve-spinup: dopri5") == std::string::npos);
+  CHECK(text.find("reserve-spinup: stiff") == std::string::npos);
+  CHECK(text.find("reserve-spinup: drag at V_x = 60.0 m/s: spin-up ") != std::string::npos);  // (every spin-up drop)
   const std::string csv = lgtest::readFile(dir / "main/summary.csv");
   CHECK(firstLine(csv).find(",stiff_from[s],stiff_handbacks[-],accuracy[-],t_peak_condition[-],accuracy_rerun[-],steps,") !=
         std::string::npos);

@@ -49,3 +49,25 @@ TEST_CASE("plots: the seed limit drop's strut work diagram returns to full exten
   v.cert = *c.findCase("cert-limit-landing");
   CHECK(lg::compliancePlotLimits(sc, c, v).loadLimit == Approx(2.5 * 4050 * 9.80665).epsilon(1e-14));
 }
+
+TEST_CASE("plots: a spin-up drop's figure has its drag panel with spin-up and spring-back marked", "[plots][tyre]") {
+  const lgtest::TempDir dir("plots_drag");
+  const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/main_gear.toml"));
+  lg::CaseOptions opt;
+  opt.record = true;
+  const lg::CaseResult r = lg::runCase(sc, lgtest::findCase(sc, "limit-spinup"), opt);
+  REQUIRE(r.metrics.ok);
+  lg::CaseFigure f;
+  f.title = "limit-spinup";
+  f.run = &r;
+  f.limits = lg::sceneLimits(sc);
+  f.drawElementsOf(sc);
+  REQUIRE(lg::drawCaseFigure(f, dir.path.string(), "spinup", false, nullptr));
+  const std::string gp = lgtest::readFile(dir / "spinup.gp");
+  CHECK(gp.find("set multiplot layout 4,2") != std::string::npos);
+  CHECK(gp.find("drag load P_x(t): wheel spin-up and spring-back") != std::string::npos);
+  char mark[80];
+  std::snprintf(mark, sizeof mark, "title 'spin-up %.0f N'", std::round(r.metrics.drag_peak_N));
+  CHECK(gp.find(mark) != std::string::npos);
+  CHECK(gp.find("title 'spring-back ") != std::string::npos);
+}
