@@ -89,7 +89,7 @@ class Checker {
     for (size_t k = 0; k < s.f1Values.size(); ++k)  // a design may move the metering pin's samples
       if (auto p = positive(f, "f1_table[" + std::to_string(k) + "]", s.f1Values[k])) return p;
     if (!(s.D2 >= s.D)) return problem("force", f, "D2", "bore " + num(s.D2) + " must be >= rod diameter D = " + num(s.D));
-    if (!(s.n > 1)) return problem("force", f, "n", "polytropic exponent " + num(s.n) + " must be > 1");
+    if (!(s.n >= 1)) return problem("force", f, "n", "polytropic exponent " + num(s.n) + " must be >= 1 (1: isothermal)");
     if (!(s.mu >= 0)) return problem("force", f, "mu", "value " + num(s.mu) + " must be >= 0");
     if (!(s.pAtm >= 0 && s.pAtm < s.p01))
       return problem("force", f, "p_atm", "value " + num(s.pAtm) + " must be >= 0 and < p01 = " + num(s.p01) +
@@ -99,7 +99,7 @@ class Checker {
         return problem("force", f, "p02", "value " + num(s.p02) + " must be > p01 = " + num(s.p01) +
                                               " (the second stage engages when p_1 reaches it)");
       if (auto p = positive(f, "Omega02", s.Omega02)) return p;
-      if (!(s.n2 > 1)) return problem("force", f, "n2", "polytropic exponent " + num(s.n2) + " must be > 1");
+      if (!(s.n2 >= 1)) return problem("force", f, "n2", "polytropic exponent " + num(s.n2) + " must be >= 1 (1: isothermal)");
     }
     if (s.ownF1e && !s.f1eTable)
       if (auto p = positive(f, "f1_extension", s.f1e)) return p;

@@ -28,6 +28,10 @@
 //   (chamber 2 adds 0 before engagement); dE/ds = p F on both sides, so the energy stored is exact.
 // The gas lasts while Omega_0 + Omega_02 > s F (one stage: Omega_0 > s F); beyond, the pressure is NaN
 // (as the single stage's law gives), never an exception.
+//
+// Isothermal (n = 1, any chamber): the same laws, and the energy their limit, p_0 Omega_0 ln(Omega_0 / V)
+// (p V constant); written p_0 Omega_0 (L + (n - 1) L^2 / 2), L = ln(Omega_0 / V), so that its derivative
+// in n is the polytropic law's limit too. isIsothermal(n) is the one branch on the value.
 #pragma once
 
 #include <cmath>
@@ -35,6 +39,18 @@
 #include "sim/core/math.hpp"
 
 namespace lg {
+
+// An exponent of 1 (to 1e-12): the isothermal energy law.
+template <class S> bool isIsothermal(const S& n) { return std::abs(value(n) - 1.0) < 1e-12; }
+
+// The energy stored compressing a gas from (p_0, Omega_0) to the volume V at the pressure p [J]:
+// (p V - p_0 Omega_0) / (n - 1), and at n = 1 its limit (above).
+template <class S> S gasEnergy(const S& p0, const S& Omega0, const S& p, const S& V, const S& n) {
+  using std::log;
+  if (!isIsothermal(n)) return (p * V - p0 * Omega0) / (n - S(1));
+  const S L = log(Omega0 / V);
+  return p0 * Omega0 * (L + (n - S(1)) * L * L / S(2));
+}
 
 template <class S> struct GasSpring {
   const S& p01;      // [Pa] chamber 1 precharge
@@ -114,8 +130,9 @@ template <class S> struct GasSpring {
     using std::pow;
     if (twoStage) {
       const Pressures r = pressures(s, F);
-      if (r.engaged) return (r.p1 * r.V1 - p01 * Omega0) / (n - S(1)) + (r.p2 * r.V2 - p02 * Omega02) / (n2 - S(1));
+      if (r.engaged) return gasEnergy(p01, Omega0, r.p1, r.V1, n) + gasEnergy(p02, Omega02, r.p2, r.V2, n2);
     }
+    if (isIsothermal(n)) return gasEnergy(p01, Omega0, S(0), Omega0 - s * F, n);
     return p01 * Omega0 / (n - S(1)) * (pow(S(1) - s * F / Omega0, S(1) - n) - S(1));
   }
 };

@@ -80,7 +80,7 @@ void SceneBuilder::readShockAbsorber(const TomlReader& r, ForceElement<double>& 
   s.p01 = r.positive("p01");
   s.Omega0 = r.positive("Omega0");
   s.n = r.positive("n");
-  if (!(s.n > 1)) r.fail("n", "polytropic exponent " + fmt(s.n) + " must be > 1");
+  if (!(s.n >= 1)) r.fail("n", "polytropic exponent " + fmt(s.n) + " must be >= 1 (1: isothermal)");
   s.rho = r.positive("rho");
   s.xi1 = r.positive("xi1");
   readStrutOrifices(r, s);
@@ -132,7 +132,7 @@ void SceneBuilder::readStrutGas(const TomlReader& r, ShockAbsorber<double>& s) {
     if (!(s.p02 > s.p01)) r.fail("p02", "value " + fmt(s.p02) + " must be > p01 = " + fmt(s.p01) + " (the second stage engages when p_1 reaches it)");
     s.Omega02 = r.positive("Omega02");
     s.n2 = r.positive("n2", s.n);
-    if (!(s.n2 > 1)) r.fail("n2", "polytropic exponent " + fmt(s.n2) + " must be > 1");
+    if (!(s.n2 >= 1)) r.fail("n2", "polytropic exponent " + fmt(s.n2) + " must be >= 1 (1: isothermal)");
   }
 }
 
