@@ -353,3 +353,28 @@ TEST_CASE("bearing friction: bad input names file, line, key and rule, exit stat
       },
       dir);
 }
+
+// Zero load: a telescopic nose gear whose strut carries no bending (the wheel under its axis) has zero
+// bearing reactions, so its bearing friction is zero and the drop is the frictionless one, with the
+// strut's exact Coulomb friction on the same slide (the gland on the cylinder below the rod's bearing,
+// as on a real strut: they move apart as the strut compresses).
+TEST_CASE("bearing friction: at zero load the drop equals the frictionless run", "[bearing_friction][drop]") {
+  toml::table doc = lgtest::shippedSpatialDoc("data/nose_gear.toml");
+  const lg::Scene plain = lgtest::build(doc);
+  doc["force"].as_array()->push_back(toml::table{{"name", "bearings"}, {"type", "bearing_friction"}, {"joint", "slide"}, {"mu", 0.1},
+                                                 {"upper_bearing", toml::array{0.0, 0.65, 0.0}},
+                                                 {"lower_bearing", toml::array{0.0, 0.90, 0.0}}});
+  const lg::Scene withBearings = lgtest::build(doc);
+  for (const auto& c : plain.cases) {
+    INFO(c.name);
+    const lg::CaseMetrics a = lg::runCase(plain, c).metrics, b = lg::runCase(withBearings, c).metrics;
+    REQUIRE(a.ok);
+    REQUIRE(b.ok);
+    // (the same drop to the integration's tolerance: the two runs' adaptive steps differ by round-off,
+    // 1.5e-8 at most measured at rtol 1e-6)
+    CHECK(b.peak_load_N == Approx(a.peak_load_N).epsilon(1e-7));
+    CHECK(b.stroke_max_m == Approx(a.stroke_max_m).epsilon(1e-7));
+    CHECK(b.h_max_m == Approx(a.h_max_m).epsilon(1e-7));
+    CHECK(b.energy_balance_error < 1e-6);
+  }
+}
