@@ -45,6 +45,9 @@ class Checker {
         p = problem("force", static_cast<int>(f), "mu", "value " + num(bf->mu) + " must be >= 0");
       if (p) return p;
     }
+    for (size_t f = 0; f < m_.forces.size(); ++f)  // (after the struts: their S_max)
+      if (const auto* bf = std::get_if<BearingFriction<double>>(&m_.forces[f].type))
+        if (auto p = bearingsApart(static_cast<int>(f), *bf)) return p;
     for (size_t c = 0; c < sc_.cases.size(); ++c) {
       const DropCase& d = sc_.cases[c];
       const int i = static_cast<int>(c);
@@ -162,6 +165,28 @@ class Checker {
                                                            " m but the strut can reach " + num(reach) + " m");
     for (size_t k = 0; k < s.f1eValues.size(); ++k)  // a design may move the extension table's samples
       if (auto p = positive(f, "f1_extension_table[" + std::to_string(k) + "]", s.f1eValues[k])) return p;
+    return std::nullopt;
+  }
+
+  // Bearing friction's lever rule divides by the bearings' distance along the axis: on the strut of the
+  // same rod and cylinder, it must keep its sign from s = 0 to S_max (the rod's bearing and the
+  // cylinder's gland move apart as a strut compresses; bearings that meet within the stroke cannot be).
+  std::optional<SceneProblem> bearingsApart(int f, const BearingFriction<double>& b) const {
+    for (size_t k = 0; k < sc_.roles.struts.size(); ++k) {
+      const auto& a = std::get<ShockAbsorber<double>>(m_.forces[sc_.roles.struts[k]].type);
+      const double S = k < sc_.roles.strokeLimits.size() ? sc_.roles.strokeLimits[k] : std::nan("");
+      if (a.bi != b.bi || a.bj != b.bj || !std::isfinite(S)) continue;
+      const Vec3<double> B = w_.kin[a.bi].point(a.rho_i), C = w_.kin[a.bj].point(a.rho_j);
+      const Vec3<double> u = (C - B).normalized();  // the rod's motion relative to the cylinder, per unit stroke
+      const Mat3<double>& R = w_.kin[b.bj].R;
+      const Vec3<double> e = (R * b.n_a).cross(R * b.n_b);
+      const double z0 = e.dot(w_.kin[b.bi].point(b.rho_l) - w_.kin[b.bj].point(b.rho_u)), zS = z0 + S * e.dot(u);
+      if (!(z0 * zS > 0))
+        return problem("force", f, "lower_bearing", "the bearings meet within the stroke: their distance along the axis goes "
+                                                    "from " + num(std::abs(z0)) + " m at s = 0 to " + num(zS * (z0 < 0 ? -1 : 1)) +
+                                                    " m at S_max = " + num(S) + " m (the rod's bearing and the cylinder's "
+                                                    "gland move apart as the strut compresses)");
+    }
     return std::nullopt;
   }
 

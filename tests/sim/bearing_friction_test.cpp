@@ -378,3 +378,21 @@ TEST_CASE("bearing friction: at zero load the drop equals the frictionless run",
     CHECK(b.energy_balance_error < 1e-6);
   }
 }
+
+// Bearings that meet within the stroke (the lever rule would divide by their zero distance there) are
+// refused at load, with the stroke range, not left to fail a run with a non-finite state.
+TEST_CASE("bearing friction: bearings that meet within the stroke are refused", "[bearing_friction][input]") {
+  toml::table doc = lgtest::shippedSpatialDoc("data/nose_gear.toml");
+  doc["force"].as_array()->push_back(toml::table{{"name", "bearings"}, {"type", "bearing_friction"}, {"joint", "slide"}, {"mu", 0.1},
+                                                 {"upper_bearing", toml::array{0.0, 0.95, 0.0}},
+                                                 {"lower_bearing", toml::array{0.0, 0.75, 0.0}}});
+  const int index = static_cast<int>(doc["force"].as_array()->size()) - 1;
+  try {
+    (void)lgtest::build(doc);
+    FAIL("no InputError");
+  } catch (const lg::InputError& e) {
+    CHECK(e.key() == "force[" + std::to_string(index) + "].lower_bearing");
+    CHECK(std::string(e.what()).find("the bearings meet within the stroke: their distance along the axis goes from 0.2 m at "
+                                     "s = 0 to -0.1 m at S_max = 0.3 m") != std::string::npos);
+  }
+}
