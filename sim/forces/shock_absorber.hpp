@@ -10,7 +10,9 @@
 //                                                     F_max = mu (p_1 - p_atm) F (the seals carry p_1 - p_atm)
 //         + xi_1 rho F^3   sdot|sdot| / (2 f_1^2)    main orifice (f_1 constant or f_1(s) table: C1
 //                                                     Catmull-Rom through the samples f1_table[k])
-//         + xi_2 rho F_2^3 sdot|sdot| / (2 f_2^2)    rebound orifice (only if the scene declares f_2)
+//         + xi_2 rho F_2^3 sdot|sdot| / (2 f_2^2)    rebound orifice (only if the scene declares f_2; with
+//                                                    f2_direction "extension" or "compression" a one-way
+//                                                    orifice: 0 in the other direction, C1 at sdot = 0 too)
 // Orifices by direction (a check valve; only if the scene declares an extension key): in extension
 // (sdot < 0; on a Coulomb slip segment its direction sigma < 0) the orifices take their own areas and
 // loss coefficients, f_1e (constant or a table f_1e(s)), xi_1e, f_2e, xi_2e (each defaulting to the
@@ -84,6 +86,7 @@ template <class S> struct ShockAbsorber {
   S p02 = S(0);       // [Pa] second chamber's precharge (> p01)
   S Omega02 = S(0);   // [m^3] second chamber's volume, the floating piston on its stop
   S n2 = S(0);        // [-] second chamber's polytropic exponent
+  int f2Direction = 0;  // the rebound orifice acts in: 0 both directions, 1 compression only, -1 extension only
 
   int eventCount() const { return twoStage ? 1 : 0; }  // s - s*: what a single stage does not declare costs nothing
   GasSpring<S> gasSpring() const { return {p01, Omega0, n, twoStage, p02, Omega02, n2}; }
@@ -110,6 +113,13 @@ template <class S> struct ShockAbsorber {
   S xi2Extension() const { return ownXi2e ? xi2e : xi2; }
   // The check valve's side: extension (the direction of a Coulomb slip segment, else the sign of sdot).
   bool extending(const Eval& r) const { return checkValve && (r.sigma != 0 ? r.sigma < 0 : value(r.sdot) < 0.0); }
+  // The rebound orifice acts in this direction (declared: f2Direction; the direction as extending()'s).
+  bool reboundActs(const Eval& r) const {
+    if (!reboundOrifice) return false;
+    if (f2Direction == 0) return true;
+    const bool out = r.sigma != 0 ? r.sigma < 0 : value(r.sdot) < 0.0;
+    return out == (f2Direction < 0);
+  }
 
   Eval eval(const Kins<S>& K) const {
     Eval r;
@@ -131,7 +141,7 @@ template <class S> struct ShockAbsorber {
       const S fe = mainOrificeExtension(r.s);
       r.orifice1 = xi1Extension() * rho * F * F * F * sq / (S(2) * fe * fe);
       r.orifice2 = S(0);
-      if (reboundOrifice) {
+      if (reboundActs(r)) {
         const S F2 = annularArea(), a2 = f2Extension();
         r.orifice2 = xi2Extension() * rho * F2 * F2 * F2 * sq / (S(2) * a2 * a2);
       }
@@ -140,7 +150,7 @@ template <class S> struct ShockAbsorber {
     const S fa = mainOrifice(r.s);
     r.orifice1 = xi1 * rho * F * F * F * sq / (S(2) * fa * fa);
     r.orifice2 = S(0);
-    if (reboundOrifice) {  // declared by the scene, not a value-dependent branch
+    if (reboundActs(r)) {  // declared by the scene (and, one-way, the direction of the rate)
       const S F2 = annularArea();
       r.orifice2 = xi2 * rho * F2 * F2 * F2 * sq / (S(2) * f2 * f2);
     }
@@ -191,7 +201,7 @@ template <class S> struct ShockAbsorber {
     const S fa = ext ? mainOrificeExtension(r.s) : mainOrifice(r.s);
     const S speed = r.sigma != 0 ? S(r.sigma) * r.sdot : magnitude(r.sdot);
     c += (ext ? xi1Extension() : xi1) * rho * F * F * F * speed / (fa * fa);
-    if (reboundOrifice) {
+    if (reboundActs(r)) {
       const S F2 = annularArea();
       const S a2 = ext ? f2Extension() : f2;
       c += (ext ? xi2Extension() : xi2) * rho * F2 * F2 * F2 * speed / (a2 * a2);
@@ -261,7 +271,7 @@ template <class S> struct ShockAbsorber {
             T(f1), T(f2), T(xi1), T(xi2), T(mu), T(pAtm), frictionVelocity, f1Table,
             std::vector<T>(f1Values.begin(), f1Values.end()), reboundOrifice, coulomb, lockRow, checkValve, ownF1e, ownXi1e, ownF2e, ownXi2e, T(f1e), T(xi1e),
             T(f2e), T(xi2e), f1eTable, std::vector<T>(f1eValues.begin(), f1eValues.end()), twoStage, T(p02), T(Omega02),
-            T(n2)};
+            T(n2), f2Direction};
   }
 };
 

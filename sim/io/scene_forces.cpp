@@ -65,7 +65,7 @@ void SceneBuilder::readShockAbsorber(const TomlReader& r, ForceElement<double>& 
   r.allowOnly({"name", "type", "rod", "cylinder", "rod_point", "cylinder_point", "L0", "D", "D2", "p01", "Omega0",
                "n", "rho", "f1", "f1_table", "f2", "xi1", "xi2", "mu", "p_atm", "friction", "friction_velocity",
                "f1_extension", "f1_extension_table", "xi1_extension", "f2_extension", "xi2_extension", "p02",
-               "Omega02", "n2"});
+               "Omega02", "n2", "f2_direction"});
   ShockAbsorber<double> s;
   s.bi = bodyRef(r, "rod");
   s.bj = bodyRef(r, "cylinder");
@@ -120,6 +120,14 @@ void SceneBuilder::readStrutOrifices(const TomlReader& r, ShockAbsorber<double>&
   s.reboundOrifice = r.has("f2");
   if (r.has("f2") && s.D2 <= s.D) r.fail("D2", "a rebound orifice f2 needs an annular chamber: D2 > D");
   s.xi2 = r.has("f2") ? r.positive("xi2") : (r.has("xi2") ? r.positive("xi2") : 0.0);
+  if (r.has("f2_direction")) {  // the rebound orifice by direction (a one-way orifice)
+    if (!r.has("f2")) r.fail("f2_direction", "names the direction of the rebound orifice f2: give f2 (and xi2)");
+    const std::string d = r.string("f2_direction");
+    if (d == "both") s.f2Direction = 0;
+    else if (d == "compression") s.f2Direction = 1;
+    else if (d == "extension") s.f2Direction = -1;
+    else r.fail("f2_direction", "value '" + d + "' must be \"both\", \"compression\" or \"extension\"");
+  }
 }
 
 // Two-stage gas spring: a second chamber behind a floating piston (p02 and Omega02; n2 defaults to n).

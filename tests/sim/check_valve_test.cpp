@@ -211,3 +211,35 @@ TEST_CASE("check valve: bad input names file, line, key and rule, exit status 2"
       },
       dir);
 }
+
+// A one-way rebound orifice (f2_direction): its force xi2 rho F2^3 s'|s'| / (2 f2^2) in its own direction
+// only, 0 in the other, to the closed form on a single stroke each way; "both" is the plain strut to the bit;
+// the damping term against central differences on each side; a drop closes its energy balance.
+TEST_CASE("check valve: a one-way rebound orifice against the closed form", "[shock_absorber][check_valve]") {
+  const lg::Scene plain = telescopicWith("");
+  const lg::Scene both = telescopicWith("f2_direction = \"both\"\n");
+  const lg::Scene ext = telescopicWith("f2_direction = \"extension\"\n");
+  const lg::Scene comp = telescopicWith("f2_direction = \"compression\"\n");
+  const auto& sa = std::get<lg::ShockAbsorber<double>>(ext.model.forces[ext.roles.struts.at(0)].type);
+  REQUIRE(sa.f2Direction == -1);
+  const double F2 = M_PI * (sa.D2 * sa.D2 - sa.D * sa.D) / 4;
+  for (double v : {0.8, 0.05, -0.05, -0.8}) {
+    INFO("s' = " << v);
+    const auto e = strutOutputs(ext, ext.model, v), c = strutOutputs(comp, comp.model, v), p = strutOutputs(plain, plain.model, v),
+               b = strutOutputs(both, both.model, v);
+    const double P2 = sa.xi2 * sa.rho * F2 * F2 * F2 * e[1] * std::abs(e[1]) / (2 * sa.f2 * sa.f2);
+    CHECK(lgtest::relDiff(v < 0 ? e[7] : c[7], P2) < 1e-14);
+    CHECK((v < 0 ? c[7] : e[7]) == 0.0);
+    CHECK(e[6] == p[6]);  // the main orifice untouched
+    for (size_t k = 0; k < b.size(); ++k) CHECK(b[k] == p[k]);
+    lg::DampingTerm<double> dt;
+    strutOutputs(ext, ext.model, v, &dt);
+    const double h = 1e-6 * std::abs(v);
+    const double fd = (strutOutputs(ext, ext.model, v + h)[3] - strutOutputs(ext, ext.model, v - h)[3]) / (2 * h);
+    CHECK(lgtest::relDiff(dt.c, fd) < 1e-7);
+  }
+  const lg::CaseMetrics m = lg::runCase(ext, lgtest::findCase(ext, "limit")).metrics;
+  REQUIRE(m.ok);
+  CHECK(m.energy_balance_error < 1e-6);
+  CHECK_THROWS_WITH(telescopicWith("f2_direction = \"upward\"\n"), Catch::Contains("must be \"both\", \"compression\" or \"extension\""));
+}
