@@ -7,19 +7,29 @@
 #include "sim/io/compliance.hpp"
 #include "sim/io/plots.hpp"
 
-TEST_CASE("plots: the seed limit drop's strut work diagram returns to full extension", "[plots]") {
-  const lgtest::TempDir dir("plots");
-  const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/seed_gear.toml"));
+namespace {
+
+// A scene's case run with its histories and drawn (data and script, no gnuplot) into dir as 'stem'.
+lg::CaseResult drawCase(const lg::Scene& sc, const std::string& name, const lgtest::TempDir& dir, const std::string& stem) {
   lg::CaseOptions opt;
   opt.record = true;
-  const lg::CaseResult r = lg::runCase(sc, lgtest::findCase(sc, "limit"), opt);
+  lg::CaseResult r = lg::runCase(sc, lgtest::findCase(sc, name), opt);
   REQUIRE(r.metrics.ok);
   lg::CaseFigure f;
-  f.title = "limit";
+  f.title = name;
   f.run = &r;
   f.limits = lg::sceneLimits(sc);
   f.drawElementsOf(sc);
-  REQUIRE(lg::drawCaseFigure(f, dir.path.string(), "limit", false, nullptr));
+  REQUIRE(lg::drawCaseFigure(f, dir.path.string(), stem, false, nullptr));
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("plots: the seed limit drop's strut work diagram returns to full extension", "[plots]") {
+  const lgtest::TempDir dir("plots");
+  const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/seed_gear.toml"));
+  const lg::CaseResult r = drawCase(sc, "limit", dir, "limit");
   std::istringstream in(lgtest::readFile(dir / "limit.dat"));
   int returnRows = 0;
   double lowest = 1, turn = 0;
@@ -53,16 +63,7 @@ TEST_CASE("plots: the seed limit drop's strut work diagram returns to full exten
 TEST_CASE("plots: a spin-up drop's figure has its drag panel with spin-up and spring-back marked", "[plots][tyre]") {
   const lgtest::TempDir dir("plots_drag");
   const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/main_gear.toml"));
-  lg::CaseOptions opt;
-  opt.record = true;
-  const lg::CaseResult r = lg::runCase(sc, lgtest::findCase(sc, "limit-spinup"), opt);
-  REQUIRE(r.metrics.ok);
-  lg::CaseFigure f;
-  f.title = "limit-spinup";
-  f.run = &r;
-  f.limits = lg::sceneLimits(sc);
-  f.drawElementsOf(sc);
-  REQUIRE(lg::drawCaseFigure(f, dir.path.string(), "spinup", false, nullptr));
+  const lg::CaseResult r = drawCase(sc, "limit-spinup", dir, "spinup");
   const std::string gp = lgtest::readFile(dir / "spinup.gp");
   CHECK(gp.find("set multiplot layout 4,2") != std::string::npos);
   CHECK(gp.find("drag load P_x(t): wheel spin-up and spring-back") != std::string::npos);
