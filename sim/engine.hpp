@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 
 #include "sim/core/state.hpp"
 #include "sim/solvers/multipliers.hpp"
@@ -181,17 +182,27 @@ template <class S> bool multipliers(const Model<S>& m, const std::vector<char>& 
 // The friction F of each bearing-friction element depends on its joint's multipliers, which depend on
 // the friction: the fixed-point iteration F -> lambda -> F from the friction-free multipliers, each step
 // one solve on the factor of the multipliers' stage (direct) or a warm-started Gauss-Seidel, until
-// |dF| <= 1e-12 (1 + |F|) (it contracts when mu times the joint's lever ratio is below 1). Then the
+// |dF| <= 1e-12 (1 + |F|), or until it reaches its round-off floor (|dF| <= 1e-9 (1 + |F|) and no longer
+// halving: F is a small difference of large multipliers when the joint's reactions nearly cancel), which
+// it does when mu times the joint's lever ratio is below 1 (a contraction). Then the
 // friction's accelerations join aFree and its dissipation rates are written. Returns false (the
-// evaluation fails) without convergence in 60 iterations. Nothing when no scene declares bearing friction.
+// evaluation fails) without convergence in 60 iterations. Nothing when no scene declares bearing friction,
+// no iteration while none slides (joined to a stuck or held lock: the lock's reaction carries it).
 template <class S> bool bearingFriction(const Model<S>& m, VecX<S>& lambdaAll, Workspace<S>& w) {
   if (m.bearingForces.empty()) return true;
   const int n = static_cast<int>(w.list.size()), nb = static_cast<int>(m.bearingForces.size());
   const Kins<S> K = w.kins();
   auto element = [&](int q) -> const BearingFriction<S>& { return std::get<BearingFriction<S>>(m.forces[m.bearingForces[q]].type); };
+  bool anySliding = false;
+  for (int q = 0; q < nb; ++q) anySliding = anySliding || element(q).sliding(K);
+  if (!anySliding) {
+    for (int q = 0; q < nb; ++q) w.dissipation[m.dissipationOffset[m.bearingForces[q]]] = S(0);
+    return true;
+  }
   for (int a = 0; a < n; ++a) w.bearingB0[a] = w.b[a];
   for (int q = 0; q < nb; ++q) w.bearingF[q] = element(q).eval(K, lambdaAll.data() + element(q).jointRow).force;
   bool converged = false;
+  double lastChange = std::numeric_limits<double>::infinity();
   for (int it = 0; it < 60 && !converged; ++it) {
     for (auto& z : w.zb) z.setZero();
     for (int q = 0; q < nb; ++q) {
@@ -212,12 +223,14 @@ template <class S> bool bearingFriction(const Model<S>& m, VecX<S>& lambdaAll, W
       }
       for (int a = 0; a < n; ++a) lambdaAll[w.list[a]] = w.lam[a];
     }
-    converged = true;  // (once converged, F stays the one lambda was solved with)
+    // (once converged, F stays the one lambda was solved with)
+    double change = 0;  // the largest |dF| / (1 + |F|)
     for (int q = 0; q < nb; ++q) {
       w.bearingFNext[q] = element(q).eval(K, lambdaAll.data() + element(q).jointRow).force;
-      const double dF = std::abs(value(w.bearingFNext[q] - w.bearingF[q]));
-      if (!(dF <= 1e-12 * (1.0 + std::abs(value(w.bearingF[q]))))) converged = false;
+      change = std::max(change, std::abs(value(w.bearingFNext[q] - w.bearingF[q])) / (1.0 + std::abs(value(w.bearingF[q]))));
     }
+    converged = change <= 1e-12 || (change <= 1e-9 && change >= 0.5 * lastChange);  // (or at the round-off floor)
+    lastChange = change;
     if (!converged) w.bearingF = w.bearingFNext;
   }
   if (!converged) return false;
@@ -606,14 +619,19 @@ template <class S> int resolveContacts(const Model<S>& m, State<S>& s, Workspace
 
 // ---- friction modes (sim/forces/friction_lock.hpp) ------------------------------------------------
 // The friction bound F_max of lock row k at the current kinematics.
+// With bearing friction joined to the lock (the same slide), its share mu (|N_u| + |N_l|) from the
+// multipliers of the last solve is added: one bound for the slide's friction.
 template <class S> S frictionBound(const Model<S>& m, const Workspace<S>& w, int k) {
   const Kins<S> K = w.kins();
-  return std::visit(
+  S bound = std::visit(
       [&](const auto& e) -> S {
         if constexpr (requires { e.frictionBound(K); }) return e.frictionBound(K);
         else return S(0);
       },
       m.forces[m.rowInfo[k].force].type);
+  for (int f : m.bearingForces)
+    if (const auto& b = std::get<BearingFriction<S>>(m.forces[f].type); b.lockRow == k) bound += b.lockBound(K);
+  return bound;
 }
 
 // Is lock row k held by an enforced stop between the same two bodies?

@@ -59,9 +59,12 @@ template <class S> class Integrator {
     if (!refresh(c_)) return fail(c_, st, "multiplier solve failed at the start");
     obs.onStart(c_.m, c_.s, c_.w);
     double h = cfg.step;
+    ProgressWatch progress{value(c_.s.t), 0, 0};
     while (value(c_.s.t) < tEnd - 1e-14 * std::max(1.0, tEnd)) {
       if (obs.stopRequested()) return fail(c_, st, "stopped on request");
       if (st.steps >= cfg.maxSteps) return fail(c_, st, "step limit reached (" + std::to_string(cfg.maxSteps) + " steps)");
+      if (const std::string why = progress.stalled(value(c_.s.t), tEnd, st.events, st.steps, !isFixedStep(kind)); !why.empty())
+        return fail(c_, st, why);
       const double remaining = tEnd - value(c_.s.t);
       bool ok;
       if (kind == IntegratorKind::DormandPrince) ok = stepDopri(c_, std::min(h, remaining), h, st);

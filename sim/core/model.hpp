@@ -14,6 +14,8 @@ enum class MultiplierSolver { Direct, GaussSeidel };
 enum class IntegratorKind { SemiImplicitEuler, RK4, DormandPrince, Ros2, Ros34pw2 };
 // The linearly implicit (Rosenbrock-W) integrators: they need the force elements' damping terms.
 inline bool isRosenbrock(IntegratorKind k) { return k == IntegratorKind::Ros2 || k == IntegratorKind::Ros34pw2; }
+// The fixed-step integrators (semi-implicit Euler, RK4).
+inline bool isFixedStep(IntegratorKind k) { return k == IntegratorKind::SemiImplicitEuler || k == IntegratorKind::RK4; }
 enum class Stabilization { Projection, Baumgarte, None };
 
 struct Settings {
@@ -152,6 +154,7 @@ template <class S> struct Model {
     for (int f = 0; f < static_cast<int>(forces.size()); ++f)
       if (auto* bf = std::get_if<BearingFriction<S>>(&forces[f].type)) {
         bf->jointRow = bf->joint >= 0 ? rowOffset[bf->joint] : -1;
+        bf->lockRow = bf->strut >= 0 ? lockRow[bf->strut] : -1;  // joined to the strut's lock (exact friction)
         bearingForces.push_back(f);
       }
   }

@@ -6,23 +6,35 @@
 // off-axis point p_3 of the rod in the plane n_b, at the axial position of p_1). Its multipliers give the
 // lateral forces the cylinder exerts on the rod there:
 //   F_1 = lambda_0 n_a + lambda_1 n_b (+ lambda_4 n_b),   F_2 = lambda_2 n_a + lambda_3 n_b          [N]
-// The bearings: the upper one fixed to the cylinder at p_u, the lower one on the rod at p_l (both on the
-// axis; their separation changes with the stroke). With the axial coordinate z = e.(p - p_u) (e the
-// cylinder's axis) the lever rule puts the same force and moment on the two bearings:
+// The bearings: one fixed to the cylinder at p_u (its gland), one on the rod at p_l (both on the axis;
+// their separation changes with the stroke). With the axial coordinate z = e.(p - p_u) (e the cylinder's
+// axis) the lever rule puts the same force and moment on the two bearings:
 //   N_l = (z_1 F_1 + z_2 F_2) / z_l,   N_u = F_1 + F_2 - N_l                                          [N]
-// and the friction force along the joint (regularised Coulomb, like the strut's "regularised" friction)
-//   F_f = mu (|N_u| + |N_l|) sgn_eps(sdot),   sdot = e.(u_l - u_u),   sgn_eps(v) = v / sqrt(v^2 + eps^2)
+// and the friction force along the joint, F_f = mu (|N_u| + |N_l|) times the direction of sliding,
 // acts as -F_f e on the rod at p_l and +F_f e on the cylinder at p_u (both on the axis: no moment pair).
-//   dissipation rate F_f sdot >= 0;  stored energy none.
+//   dissipation rate F_f sdot >= 0,  sdot = e.(u_l - u_u);  stored energy none.
+//
+// Two laws, chosen by the slide (Model::finalize):
+//   with the strut's exact friction  the slide carries a Coulomb strut (friction = "coulomb") between the
+//     (joined)                       same rod and cylinder, its points on the joint's axis: both frictions
+//                                    share the strut's friction lock (friction_lock.hpp), one set of modes
+//                                    for the slide. Slipping in the lock's direction sigma:
+//                                      F_f = mu (|N_u| + |N_l|) sigma c,   c = sgn(d sdot / d sdot_lock) = +-1
+//                                    (exact, no regularisation); stuck: F_f = 0 here, the lock's reaction
+//                                    carries it, bounded by the sum of both elements' bounds
+//                                      |lambda_lock| <= mu_s (p_1 - p_atm) F + mu (|N_u| + |N_l|);
+//                                    held by a stop: 0.
+//   alone (regularised)              F_f = mu (|N_u| + |N_l|) sgn_eps(sdot), sgn_eps(v) = v / sqrt(v^2 + eps^2)
 //
 // The reactions depend on the friction: the engine's stage bearingFriction (sim/engine.hpp) iterates
 // F -> lambda -> F on the factor of the multipliers' solve, which contracts when mu times the lever ratio
-// of the joint is below 1; it stops at |dF| <= 1e-12 (1 + |F|) and fails the evaluation (a failed run
-// status, never an exception) after 60 iterations. apply() therefore adds nothing: the stage applies the
-// friction and writes the dissipation rate. The joint keeps its rows (a prismatic joint to the ground is
-// not eliminated into its body's mobility when it has bearing friction). The acceleration-level decisions
-// of contact and strut friction modes (resolveContacts) are taken without the bearing friction, and a
-// plastic impact takes no friction impulse.
+// of the joint is below 1; it stops at |dF| <= 1e-12 (1 + |F|), or at its round-off floor (|dF| <= 1e-9
+// (1 + |F|), no longer halving), and fails the evaluation (a failed run status, never an exception)
+// after 60 iterations. Without sliding (joined and stuck or held, or zero
+// reactions) the stage does nothing. apply() therefore adds nothing: the stage applies the friction and
+// writes the dissipation rate. The joint keeps its rows (a prismatic joint to the ground is not
+// eliminated into its body's mobility when it has bearing friction). A plastic impact takes no friction
+// impulse; the contact decisions (resolveContacts) are taken without a sliding bearing friction.
 #pragma once
 
 #include <cmath>
@@ -46,7 +58,12 @@ template <class S> struct BearingFriction {
   Vec3<S> rho_u;                   // [m] upper bearing, in the cylinder
   Vec3<S> rho_l;                   // [m] lower bearing, in the rod
   S mu = S(0);                     // [-] friction coefficient of the bearings
-  double frictionVelocity = 1e-3;  // [m/s] eps of sgn_eps
+  double frictionVelocity = 1e-3;  // [m/s] eps of sgn_eps (alone)
+  int strut = -1;                  // the Coulomb strut on the same slide (force index, scene reader), or -1
+  int slideSign = 1;               // c = sgn(d sdot / d sdot_lock) of that strut's lock rate (scene reader)
+  int lockRow = -1;                // that strut's friction-lock row (Model::finalize), or -1: alone
+
+  bool joined() const { return lockRow >= 0; }
 
   struct Eval {
     Vec3<S> e, armU, armL, Nu, Nl;  // axis; lever arms of p_u (cylinder) and p_l (rod); bearing reactions
@@ -71,9 +88,13 @@ template <class S> struct BearingFriction {
     r.Nu = F1 + F2 - r.Nl;
     r.sdot = r.e.dot(R.pointVelocity(r.armL) - C.pointVelocity(r.armU));
     r.Nsum = norm(r.Nu) + norm(r.Nl);
-    r.force = mu * r.Nsum * smoothSign(r.sdot, frictionVelocity);
+    r.force = joined() ? S(K.slipOf(lockRow) * slideSign) * mu * r.Nsum : mu * r.Nsum * smoothSign(r.sdot, frictionVelocity);
     return r;
   }
+  // Does the element push now (alone: always; joined: while its lock slips)?
+  bool sliding(const Kins<S>& K) const { return !joined() || K.slipOf(lockRow) != 0; }
+  // Its share of the shared lock's bound while stuck, mu (|N_u| + |N_l|) from the last solve's multipliers.
+  S lockBound(const Kins<S>& K) const { return mu * eval(K, K.lambda ? K.lambda + jointRow : zeros()).Nsum; }
   // |v| with the derivative 0 at v = 0 (a Jet's sqrt would give NaN there).
   static S norm(const Vec3<S>& v) {
     using std::sqrt;
@@ -91,13 +112,14 @@ template <class S> struct BearingFriction {
   S stored(const Kins<S>&) const { return S(0); }
   void events(const Kins<S>&, S*) const {}
   // dF_f/dsdot = mu (|N_u| + |N_l|) eps^2 / (sdot^2 + eps^2)^(3/2) along sdot = G V (the reactions of the
-  // last solve held fixed: their dependence on V is left to the W-method's approximate Jacobian).
+  // last solve held fixed: their dependence on V is left to the W-method's approximate Jacobian); joined,
+  // 0 (constant over a slip segment).
   void damping(const Kins<S>& K, DampingTerm<S>* d) const {
     using std::sqrt;
     const Eval r = eval(K, K.lambda ? K.lambda + jointRow : zeros());
     const S v2 = r.sdot * r.sdot, e2 = S(frictionVelocity * frictionVelocity);
     const S q = sqrt(v2 + e2);
-    d->setAxial(bj, bi, r.e, r.armU, r.armL, mu * r.Nsum * e2 / (q * q * q));
+    d->setAxial(bj, bi, r.e, r.armU, r.armL, joined() ? S(0) : mu * r.Nsum * e2 / (q * q * q));
   }
   static std::vector<std::string> outputNames() { return {"N_upper", "N_lower", "F_friction", "s_dot"}; }
   static const char* outputUnit(const std::string& n) { return n == "s_dot" ? "m/s" : "N"; }
@@ -112,7 +134,7 @@ template <class S> struct BearingFriction {
   S* parameter(const std::string& key) { return key == "mu" ? &mu : nullptr; }
   template <class T> BearingFriction<T> cast() const {
     return {joint, jointRow, rows, bi, bj, castVec<T>(rho_1), castVec<T>(rho_2), castVec<T>(n_a), castVec<T>(n_b),
-            castVec<T>(rho_u), castVec<T>(rho_l), T(mu), frictionVelocity};
+            castVec<T>(rho_u), castVec<T>(rho_l), T(mu), frictionVelocity, strut, slideSign, lockRow};
   }
   static const S* zeros() {  // the multipliers before any solve
     static const S z[5] = {S(0), S(0), S(0), S(0), S(0)};

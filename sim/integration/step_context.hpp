@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -24,6 +25,39 @@ struct RunStatus {
   double stiffFrom = std::numeric_limits<double>::quiet_NaN();  // [s] where a dopri5 run found itself stiff and
                                                                 // went on with ros34pw2 to the end; NaN: never
   int handBacks = 0;                // hand-overs to ros34pw2 that cost more than dopri5 and were handed back
+};
+
+// A run that stops making progress ends at once with a failed status saying why, instead of spending
+// its step limit (minutes): kEvents events (stops, friction modes, force switches) within a thousandth
+// of the run's length (modes that alternate at one instant: stick and slip both inconsistent, a contact
+// made and let go), or an adaptive run's kSteps steps within a millionth of it (a step size that
+// collapsed). A drop takes some ten events and a few thousand steps in all. stalled() is called before
+// each step with the run's counts so far; "" while it progresses.
+struct ProgressWatch {
+  static constexpr long kEvents = 2000, kSteps = 20000;
+  double t0;         // [s] where the counts were last taken
+  long events0 = 0, steps0 = 0;
+  std::string stalled(double t, double tEnd, long events, long steps, bool adaptive) {
+    const double span = std::max(tEnd, 1e-3);
+    if (events - events0 >= kEvents) {
+      if (t - t0 < 1e-3 * span)
+        return "no progress: " + std::to_string(events - events0) + " events within " + shortNumber(t - t0) +
+               " s (contact or friction modes alternating: the mode problem has no consistent solution here)";
+      t0 = t, events0 = events, steps0 = steps;
+    }
+    if (steps - steps0 >= kSteps) {
+      if (adaptive && t - t0 < 1e-6 * span)
+        return "no progress: " + std::to_string(steps - steps0) + " steps within " + shortNumber(t - t0) +
+               " s (the step size collapsed)";
+      t0 = t, events0 = events, steps0 = steps;
+    }
+    return {};
+  }
+  static std::string shortNumber(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", x);
+    return buf;
+  }
 };
 
 // What every step function works on: the model, the state it advances, the workspace, the dense output

@@ -169,6 +169,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   b.readStops();
   b.readForces();
   b.finishLifts();
+  b.finishBearings();
   b.findAirframe();
   sc.model.finalize();
   readInitialState(b);

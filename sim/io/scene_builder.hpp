@@ -99,6 +99,7 @@ struct SceneBuilder {
   void readBearingFriction(const TomlReader& r, ForceElement<double>& f);
   // After the force elements: |g| and up, each lift element's direction, the airframe.
   void finishLifts();
+  void finishBearings();
   void findAirframe();
 };
 

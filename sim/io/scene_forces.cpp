@@ -341,6 +341,42 @@ void SceneBuilder::finishLifts() {
   }
 }
 
+// Bearing friction on the slide of a Coulomb strut (the same rod and cylinder) shares that strut's
+// friction lock (bearing_friction.hpp): the strut's points must lie on the joint's axis (then the lock's
+// rate is the slide's, up to the sign c recorded here).
+void SceneBuilder::finishBearings() {
+  for (size_t f = 0; f < m.forces.size(); ++f) {
+    auto* b = std::get_if<BearingFriction<double>>(&m.forces[f].type);
+    if (!b) continue;
+    for (size_t g = 0; g < m.forces.size(); ++g) {
+      const auto* s = std::get_if<ShockAbsorber<double>>(&m.forces[g].type);
+      if (!s || !s->coulomb || !((s->bi == b->bi && s->bj == b->bj) || (s->bi == b->bj && s->bj == b->bi))) continue;
+      const Pose pc = b->bj < 0 ? Pose{} : poses[b->bj];
+      const Vec3<double> e = pc.R * b->n_a.cross(b->n_b);
+      const Vec3<double> p0 = (b->bi < 0 ? Pose{} : poses[b->bi]).r + (b->bi < 0 ? Mat3<double>::Identity() : poses[b->bi].R) * b->rho_1;
+      auto at = [&](int body, const Vec3<double>& rho) { return body < 0 ? rho : Vec3<double>(poses[body].r + poses[body].R * rho); };
+      const Vec3<double> B = at(s->bi, s->rho_i), C = at(s->bj, s->rho_j);
+      TomlReader r(*forceTables[f], file, "force[" + std::to_string(f) + "]");
+      for (const Vec3<double>& p : {B, C}) {
+        const Vec3<double> d = p - p0;
+        const double off = (d - e * e.dot(d)).norm();
+        if (off > 1e-6)
+          r.fail("joint", "the Coulomb strut '" + m.forces[g].name + "' on this slide has a point " + fmt(off) +
+                              " m off the joint's axis (tolerance 1e-6 m): its friction and the bearings' share one "
+                              "friction lock, which needs the strut along the slide");
+      }
+      if (r.has("friction_velocity"))
+        r.fail("friction_velocity", "applies to bearing friction alone (on this slide it shares the exact Coulomb friction "
+                                    "of strut '" + m.forces[g].name + "')");
+      // sdot_lock = -e_s.(u_B - u_C), e_s = (B - C)/|B - C|; the rod moving along e at sdot: u_B - u_C = +-sdot e.
+      const double c = -(B - C).normalized().dot(e) * (s->bi == b->bi ? 1.0 : -1.0);
+      b->strut = static_cast<int>(g);
+      b->slideSign = c > 0 ? 1 : -1;
+      break;
+    }
+  }
+}
+
 // The airframe: declared, else the body of the first lift element.
 void SceneBuilder::findAirframe() {
   if (!airframe.empty()) {

@@ -451,3 +451,32 @@ TEST_CASE("ros34pw2's dense output on a stiff step that starts off the slow mani
   CHECK(watch.worstHermite > 10 * offset);  // (what the test tells apart)
   CHECK(watch.worstPosition < 0.15 * h * offset);  // (the Hermite weight of the start's rate peaks at 4/27)
 }
+
+// The progress watch (sim/integration/step_context.hpp): a run whose events come 2000 within a thousandth
+// of its length, or whose adaptive steps come 20000 within a millionth of it, is stopped with its reason;
+// a run that progresses, however many events or steps it takes in all, is not; fixed steps may be small.
+TEST_CASE("integrators: a run without progress stops with its reason", "[integrators]") {
+  const double tEnd = 0.8;
+  {  // modes alternating at one instant: 2000 events, t moving by 1e-9 s each
+    lg::ProgressWatch w{0.331};
+    std::string why;
+    long e = 0;
+    for (; e <= 3000 && why.empty(); ++e) why = w.stalled(0.331 + 1e-9 * e, tEnd, e, e, true);
+    CHECK(e == 2001);
+    CHECK(why.rfind("no progress: 2000 events within 2e-06 s (contact or friction modes alternating", 0) == 0);
+  }
+  {  // a collapsed step size: 20000 steps of 1e-12 s, no events
+    lg::ProgressWatch w{0.1};
+    std::string why;
+    long k = 0;
+    for (; k <= 30000 && why.empty(); ++k) why = w.stalled(0.1 + 1e-12 * k, tEnd, 0, k, true);
+    CHECK(k == 20001);
+    CHECK(why == "no progress: 20000 steps within 2e-08 s (the step size collapsed)");
+    lg::ProgressWatch fixed{0.1};  // a fixed step of 1e-12 s is the user's choice
+    for (long q = 0; q <= 30000; ++q) REQUIRE(fixed.stalled(0.1 + 1e-12 * q, tEnd, 0, q, false).empty());
+  }
+  {  // progress: an event every 1e-5 s and 10 steps per microsecond over the whole run
+    lg::ProgressWatch w{0.0};
+    for (long k = 0; k <= 800000; ++k) REQUIRE(w.stalled(1e-6 * k, tEnd, k / 10, k, true).empty());
+  }
+}

@@ -14,7 +14,7 @@ using BadScene = lgtest::BadInput;
 
 TEST_CASE("shipped scenes load", "[scene]") {
   for (const char* f : {"data/seed_gear.toml", "data/telescopic_gear.toml", "data/seed_gear_metering_pin.toml",
-                        "data/main_gear.toml", "data/nose_gear.toml"}) {
+                        "data/main_gear.toml", "data/nose_gear.toml", "data/friction_gear.toml"}) {
     INFO(f);
     const lg::Scene sc = lg::loadScene(lgtest::sourcePath(f));
     CHECK(sc.roles.airframe == "airframe");

@@ -6,6 +6,7 @@
 
 #include <cstdlib>
 #include <regex>
+#include <sstream>
 
 namespace {
 
@@ -380,4 +381,28 @@ TEST_CASE("simulate --accuracy: the stiffness hand-over and its handed-back tria
                                            "ros34pw2 from there\n")));
   CHECK(std::regex_search(lgtest::readFile(dir / "seed/summary.json"),
                           std::regex("\"stiff_from_s\": 0\\.4069[0-9]+,\n *\"stiff_handbacks\": 0,")));
+}
+
+// The README's example of every friction on one slide (data/friction_gear.toml): the terminal lines of this
+// run, the table cut after its "steps" column (wall time and limits left out).
+TEST_CASE("simulate: the README's friction gear example is this run's", "[cli][bearing_friction]") {
+  lgtest::TempDir dir("cli_friction_gear");
+  std::string out;
+  REQUIRE(simulateCapture(q(lgtest::sourcePath("data/friction_gear.toml")) + " --threads 1 --out " + q(dir / "out"), out) == 0);
+  const std::string readme = lgtest::readFile(lgtest::sourcePath("README.md"));
+  std::istringstream lines(out);
+  std::string header;
+  std::getline(lines, header);
+  const size_t cut = header.find("steps") + 5;
+  REQUIRE(cut > 5);
+  CHECK(readme.find(header.substr(0, cut) + "\n") != std::string::npos);
+  int n = 1;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("wrote ", 0) == 0) continue;  // (the output folder differs)
+    if (n <= 3) line = line.substr(0, cut);
+    INFO(line);
+    CHECK(readme.find(line + "\n") != std::string::npos);
+    ++n;
+  }
+  CHECK(n == 7);
 }
