@@ -338,7 +338,7 @@ Compliance assessCompliance(const Scene& scene, const Certification& c, int thre
     m.name = base[i].name;
     if (i < nm) return assessCase("certification", c.cases[i], m, caseLimits(c, c.cases[i], scene));
     const DropCase& d = scene.cases[i - nm];
-    CertCase cc = makeCase(d.name, CertKind::Limit, d.sinkSpeed, d.liftRatio, caseMass(scene, d), d.duration,
+    CertCase cc = makeCase(d.name, CertKind::Limit, touchdownSpeed(d, scene.gravity), d.liftRatio, caseMass(scene, d), d.duration,
                            "the scene's own case (a check)");
     cc.forwardSpeed = d.forwardSpeed;
     return assessCase("check", cc, m, checks);

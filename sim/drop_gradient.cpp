@@ -45,7 +45,7 @@ struct Kinks {
   double tStick = -1;                   // [s] start of the first stick
 };
 
-template <class S> Kinks findKinks(const CaseFigures<S>& F, const DropCase& c, double bottomSpeed) {
+template <class S> Kinks findKinks(const CaseFigures<S>& F, const DropCase& c, double bottomSpeed, double touchdown) {
   Kinks k;
   const double peak = value(F.peak_load), tPeak = value(F.t_peak);
   const auto [tOther, other] = secondLoadHump(F);
@@ -54,7 +54,7 @@ template <class S> Kinks findKinks(const CaseFigures<S>& F, const DropCase& c, d
               num(tOther) + " s): the peak can jump between them; the derivative is the one of the hump at t = " +
               num(tPeak) + " s";
   const double Smax = std::isnan(value(F.stroke_margin)) ? 0 : value(F.stroke_max + F.stroke_margin);
-  if (F.bottomed && bottomSpeed >= 0 && bottomSpeed < 1e-3 * c.sinkSpeed)
+  if (F.bottomed && bottomSpeed >= 0 && bottomSpeed < 1e-3 * touchdown)
     k.bottoming = "the strut reaches its bottoming stop at a speed of " + num(bottomSpeed) +
                   " m/s: bottoming begins at this design; the derivative is the bottomed side's";
   else if (!F.bottomed && Smax > 0 && value(F.stroke_margin) < 1e-3 * Smax)
@@ -113,7 +113,7 @@ bool runPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>
   EnvelopePoint<J> at;
   seedPass(scene, c, params, first, m, V, L, at);
   applyCase(scene, m, c, L, &at);
-  State<J> s = caseState(scene, m, V);
+  State<J> s = caseState(scene, m, V, c.dropHeight);
   Workspace<J> w(m);
   bool drag = false;  // a tyre with a longitudinal force: the peak drag is a figure of the run
   for (int f : scene.roles.tyres) drag = drag || std::get<Tyre<double>>(scene.model.forces[f].type).longitudinal;
@@ -140,7 +140,7 @@ bool runPass(const Scene& scene, const DropCase& c, const std::vector<Parameter>
       md.d[j] = std::isnan(f.a) ? f.a : f.v[static_cast<int>(j - first)];
   }
   if (first == 0) {
-    kinks = findKinks(F, c, obs.bottomingSpeed());
+    kinks = findKinks(F, c, obs.bottomingSpeed(), touchdownSpeed(c, scene.gravity));
     for (auto& md : g.metrics) {
       std::string why;
       auto add = [&](const std::string& s) { why += (why.empty() ? "" : "; ") + s; };
@@ -169,7 +169,7 @@ bool historyPass(const Scene& scene, const DropCase& c, const std::vector<Parame
   EnvelopePoint<J> at;
   seedPass(scene, c, params, first, m, V, L, at);
   applyCase(scene, m, c, L, &at);
-  State<J> s = caseState(scene, m, V);
+  State<J> s = caseState(scene, m, V, c.dropHeight);
   Workspace<J> w(m);
   CaseOptions opt;
   opt.outputTimes = times;

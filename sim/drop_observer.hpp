@@ -120,7 +120,8 @@ template <class S> class DropObserver {
   // 'record' (double only) receives the time histories when opt.record is set.
   DropObserver(const Scene& sc, const Model<S>& m, const DropCase& c, const S& sinkSpeed, const S& liftRatio,
                const CaseOptions& opt, CaseResult* record)
-      : sc_(sc), m_(m), case_(c), V_(sinkSpeed), L_(liftRatio), opt_(opt), rec_(record), wo_(m) {
+      : sc_(sc), m_(m), case_(c), V_(touchdownSpeed(sinkSpeed, liftRatio, c.dropHeight, sc.gravity)), L_(liftRatio), opt_(opt),
+        rec_(record), wo_(m) {
     airframe_ = sc.roles.airframe.empty() ? -1 : m.bodyIndex(sc.roles.airframe);
     for (int ci : sc.roles.stops) {
       stopRows_.push_back(m.rowOffset[ci]);
@@ -167,7 +168,8 @@ template <class S> class DropObserver {
   }
 
   void onStart(const Model<S>& m, const State<S>& s, Workspace<S>& w) {
-    if (airframe_ >= 0) r0_ = w.kin[airframe_].r;
+    // (h from the touchdown positions: a drop from a height starts at h = -h_d)
+    if (airframe_ >= 0) r0_ = w.kin[airframe_].r - (case_.dropHeight * sc_.up).template cast<S>();
     stepActive_ = s.active;
     stepSlip_ = s.slip;
     wo_.implied = w.implied;  // (the rows the run's mode leaves out: the observer's evaluations skip them too)
@@ -808,7 +810,7 @@ template <class S> class DropObserver {
   const Scene& sc_;
   const Model<S>& m_;
   const DropCase& case_;
-  const S V_, L_;            // the case's sink speed and lift ratio (design parameters, possibly)
+  const S V_, L_;            // the case's sink speed at touchdown and lift ratio (design parameters, possibly)
   const CaseOptions& opt_;
   CaseResult* rec_;
   Workspace<S> wo_;           // the observer's own: dense-output channels and output rows

@@ -92,13 +92,13 @@ Model<double> caseModel(const Scene& scene, const DropCase& c) {
 }
 
 State<double> caseState(const Scene& scene, const Model<double>& m, const DropCase& c) {
-  return caseState(scene, m, c.sinkSpeed);
+  return caseState(scene, m, c.sinkSpeed, c.dropHeight);
 }
 
 CaseMetrics caseMetrics(const CaseFigures<double>& F, const Scene& scene, const DropCase& c) {
   CaseMetrics M;
   M.name = c.name;
-  M.sink_speed_mps = c.sinkSpeed;
+  M.sink_speed_mps = touchdownSpeed(c, scene.gravity);  // (at touchdown: a drop from a height's too)
   M.lift_ratio = c.liftRatio;
   M.forward_speed_mps = c.forwardSpeed;
   M.drag_peak_N = F.drag_peak;

@@ -164,14 +164,16 @@ void applyCase(const Scene& scene, Model<S>& m, const DropCase& c, const S& lift
     cf.force = dir.template cast<S>() * (liftRatio * G * S(scene.gravity));
   }
 }
-// Initial state of a case: scene positions, every body moving at the sink speed against gravity.
-template <class S> State<S> caseState(const Scene& scene, const Model<S>& m, const S& sinkSpeed) {
+// Initial state of a case: scene positions (raised by dropHeight [m] for a drop from a height), every body
+// moving at the sink speed against gravity.
+template <class S> State<S> caseState(const Scene& scene, const Model<S>& m, const S& sinkSpeed, double dropHeight = 0) {
   State<S> s(m);
   s.y = scene.initial.y.template cast<S>();
   s.lambda = scene.initial.lambda.template cast<S>();
   s.active = scene.initial.active;
   const int N = m.nBodies();
   for (int b = 0; b < N; ++b) {
+    s.y.template segment<3>(7 * b) += (dropHeight * scene.up).template cast<S>();
     s.y.template segment<3>(7 * N + 6 * b) = -sinkSpeed * scene.up.template cast<S>();
     s.y.template segment<3>(7 * N + 6 * b + 3).setZero();
   }

@@ -66,6 +66,7 @@ template <class S> class Integrator {
       if (const std::string why = progress.stalled(value(c_.s.t), tEnd, st.events, st.steps, !isFixedStep(kind)); !why.empty())
         return fail(c_, st, why);
       const double remaining = tEnd - value(c_.s.t);
+      if (!isFixedStep(kind)) h = std::min(h, std::max(touchdownHorizon(c_), 1e-8));
       bool ok;
       if (kind == IntegratorKind::DormandPrince) ok = stepDopri(c_, std::min(h, remaining), h, st);
       else if (kind == IntegratorKind::Ros2) ok = stepRosenbrock(c_, RosenbrockTableau::ros2(), std::min(h, remaining), h, st);

@@ -51,7 +51,9 @@ class Checker {
     for (size_t c = 0; c < sc_.cases.size(); ++c) {
       const DropCase& d = sc_.cases[c];
       const int i = static_cast<int>(c);
-      if (const std::string rule = sinkSpeedRule(d.sinkSpeed); !rule.empty()) return problem("case", i, "sink_speed", rule);
+      if (const std::string rule = sinkSpeedRule(touchdownSpeed(d, sc_.gravity)); !rule.empty())
+        return problem("case", i, d.dropHeight > 0 ? "drop_height" : "sink_speed",
+                       d.dropHeight > 0 ? "the touchdown speed sqrt(sink_speed^2 + 2 g (1 - lift_ratio) drop_height): " + rule : rule);
       if (const std::string rule = liftRatioRule(d.liftRatio); !rule.empty()) return problem("case", i, "lift_ratio", rule);
       if (!(d.duration > 0)) return problem("case", i, "duration", "value " + num(d.duration) + " must be > 0");
     }
@@ -208,7 +210,10 @@ class Checker {
     if (t.law == TyreLaw::Table && t.curve->xMax() < t.deltaMax - 1e-12)
       return problem("force", f, "load_table", "table ends at deflection " + num(t.curve->xMax()) + " m, before delta_max = " +
                                                     num(t.deltaMax) + " m: it must cover the tyre's allowed deflection");
-    if (t.damped) {
+    if (t.damped && t.dampingLaw == TyreDampingLaw::Stiffness) {  // (a design may move them)
+      if (auto p = positive(f, "damping_ratio", t.dampingRatio)) return p;
+      if (auto p = positive(f, "damping_mass", t.dampingMass)) return p;
+    } else if (t.damped) {
       if (!(t.c >= 0)) return problem("force", f, "c", "value " + num(t.c) + " must be >= 0");
       if (!(t.dampingExponent >= 0))
         return problem("force", f, "damping_exponent", "value " + num(t.dampingExponent) + " must be >= 0");

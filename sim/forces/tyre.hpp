@@ -7,8 +7,12 @@
 //     power       P_s = K delta_max (delta/delta_max)^m,  m >= 1        K: secant stiffness at delta_max
 //     table       P_s = the C1 curve through the samples (delta, P) of a CSV file, from (0, 0) on
 //                 (curve_table.hpp: cubic Hermite, linear beyond the last sample)
-//   damping (optional)  P_d = c (delta/delta_max)^q delta'               q = 0: viscous; q > 0: it grows
-//                                                                        with the footprint (0 at contact)
+//   damping (optional)  P_d = c_d(delta) delta', its coefficient one law (the scene's `damping_law`):
+//     power       c_d = c (delta/delta_max)^q                          q = 0: viscous; q > 0: it grows
+//                                                                      with the footprint (0 at contact)
+//     stiffness   c_d = 2 zeta sqrt(k_t(delta) m),  k_t = dP_s/ddelta    a damping ratio zeta of the tyre's
+//                                                                      own stiffness with the mass m on it
+//     and its direction (`damping_direction`): both, or compression only: P_d = c_d max(delta', 0)
 //   P_t = max(P_s + P_d, 0) for delta > 0, 0 otherwise                   the tyre never pulls
 // applied along the ground normal n at p.
 //   stored energy  E_s = integral from 0 to delta of P_s:  K (delta^2/2 + alpha delta^4 / (4 delta_max^2)),
@@ -31,13 +35,15 @@
 //   dissipation rate  P_x v_s >= 0 (the slip); and the moving ground's work on the tyre, rate
 //   -P_x V_x (its own channel: energy put in, booked with a minus sign so that the balance closes)
 //
-// Events: contact start and end (delta crossing 0); with damping, P_s + P_d crossing 0 (the clamp).
+// Events: contact start and end (delta crossing 0); with damping, P_s + P_d crossing 0 (the clamp); with
+// compression-only damping, delta' crossing 0 (its kink: the largest deflection).
 // Outputs: delta, P_t, their rates delta' and P_t' = dP_s/ddelta delta' (0 out of contact; with damping
 // the rate of the elastic part and of the damping's coefficient only, the term c delta'' needs the
 // wheel's acceleration: the drop-test observer takes a damped tyre's load rate on the dense output), and
 // with a longitudinal force P_x and v_s.
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -48,6 +54,9 @@
 namespace lg {
 
 enum class TyreLaw { Polynomial, Power, Table };
+
+// The tyre damping coefficient's law.
+enum class TyreDampingLaw { Power, Stiffness };
 
 template <class S> struct Tyre {
   int body = kGround;
@@ -64,6 +73,10 @@ template <class S> struct Tyre {
   bool damped = false;                       // the scene declares c
   S c = S(0);                                // [N s/m] damping coefficient
   S dampingExponent = S(0);                  // [-] q
+  TyreDampingLaw dampingLaw = TyreDampingLaw::Power;
+  S dampingRatio = S(0);                     // [-] zeta (stiffness law)
+  S dampingMass = S(0);                      // [kg] m (stiffness law)
+  bool compressionOnly = false;              // damping_direction = "compression"
   bool longitudinal = false;                 // the scene declares mu_x
   S muX = S(0);                              // [-] longitudinal friction coefficient
   S slipRatio = S(0.05);                     // [-] kappa_0
@@ -72,7 +85,7 @@ template <class S> struct Tyre {
 
   int dissipationChannels() const { return (damped ? 1 : 0) + (longitudinal ? 2 : 0); }
   int dampingTerms() const { return 1 + (longitudinal ? 1 : 0); }  // the vertical term carries the stiffness
-  int eventCount() const { return damped ? 2 : 1; }
+  int eventCount() const { return damped ? (compressionOnly ? 3 : 2) : 1; }
   int inputChannels() const { return longitudinal ? 1 : 0; }  // the ground's work (the last channel)
   // The dissipation of damping and slip has kinks (the clamp, the contact's end): the steps must resolve them.
   bool dissipationErrorControlled() const { return damped || longitudinal; }
@@ -96,9 +109,16 @@ template <class S> struct Tyre {
     const S x = delta / deltaMax;
     return K * (S(1) + S(3) * alpha * x * x);
   }
+  // c_d(delta) for delta > 0 (its law).
+  S dampingCoefficient(const S& delta) const {
+    if (dampingLaw == TyreDampingLaw::Stiffness) return S(2) * dampingRatio * sqrt(stiffness(delta) * dampingMass);
+    return c * pow(delta / deltaMax, dampingExponent);
+  }
+  // The rate the damping acts on: delta', or its positive part when it acts in compression only.
+  S dampedRate(const S& rate) const { return compressionOnly ? positivePart(rate) : rate; }
   // P_d(delta, delta'), 0 off the ground.
   S dampingForce(const S& delta, const S& rate) const {
-    return isPositive(delta) ? c * pow(delta / deltaMax, dampingExponent) * rate : S(0);
+    return isPositive(delta) ? dampingCoefficient(delta) * dampedRate(rate) : S(0);
   }
 
   // Everything at one instant (the options' parts only where declared).
@@ -156,8 +176,10 @@ template <class S> struct Tyre {
     }
     const Contact r = contact(K_);
     g[0] = r.delta;
-    // P_s + P_d, continued off the ground by c delta' for q = 0 (continuous at contact), else by 0.
-    g[1] = isPositive(r.delta) ? r.Ps + dampingForce(r.delta, r.rate) : (value(dampingExponent) == 0.0 ? c * r.rate : S(0));
+    // P_s + P_d, continued off the ground by its limit at contact, c_d(0+) delta' (continuous there).
+    const S atContact = dampingCoefficient(S(std::numeric_limits<double>::min()));
+    g[1] = isPositive(r.delta) ? r.Ps + dampingForce(r.delta, r.rate) : atContact * dampedRate(r.rate);
+    if (compressionOnly) g[2] = r.rate;
   }
   // delta' = G V with G = -(n, a x n) on the wheel (DampingTerm::setAxial with e = n against the ground):
   // k = dP_s/ddelta and, if damped, c_d = c (delta/delta_max)^q while the tyre is loaded (and unclamped),
@@ -166,7 +188,8 @@ template <class S> struct Tyre {
     const Contact r = contact(K_);
     const bool on = isPositive(r.delta) && isPositive(r.P);
     d[0].setAxial(body, kGround, normal, r.arm, Vec3<S>::Zero(),
-                  on && damped ? S(c * pow(r.delta / deltaMax, dampingExponent)) : S(0), on ? stiffness(r.delta) : S(0));
+                  on && damped && (!compressionOnly || isPositive(r.rate)) ? dampingCoefficient(r.delta) : S(0),
+                  on ? stiffness(r.delta) : S(0));
     if (longitudinal) {
       const S e2 = slipVelocity() * slipVelocity(), q = r.vSlip * r.vSlip + e2;
       d[1].setAxial(body, kGround, Vec3<S>(-forward), r.armContact, Vec3<S>::Zero(), muX * r.P * e2 / (q * sqrt(q)));
@@ -194,8 +217,8 @@ template <class S> struct Tyre {
     out[1] = r.P;
     out[2] = r.rate;
     out[3] = isPositive(r.P) ? stiffness(r.delta) * r.rate : S(0);
-    if (damped && isPositive(r.P) && value(dampingExponent) != 0.0)
-      out[3] += c * dampingExponent * pow(r.delta / deltaMax, dampingExponent - S(1)) / deltaMax * r.rate * r.rate;
+    if (damped && dampingLaw == TyreDampingLaw::Power && isPositive(r.P) && value(dampingExponent) != 0.0)
+      out[3] += c * dampingExponent * pow(r.delta / deltaMax, dampingExponent - S(1)) / deltaMax * r.rate * dampedRate(r.rate);
     if (longitudinal) {
       out[4] = r.Px;
       out[5] = r.vSlip;
@@ -209,8 +232,11 @@ template <class S> struct Tyre {
     if (key == "alpha") return law == TyreLaw::Polynomial ? &alpha : nullptr;
     if (key == "exponent") return law == TyreLaw::Power ? &exponent : nullptr;
     if (key == "ground_height") return &groundHeight;
-    if (key == "c") return damped ? &c : nullptr;
-    if (key == "damping_exponent") return damped ? &dampingExponent : nullptr;
+    const bool power = damped && dampingLaw == TyreDampingLaw::Power, stiff = damped && dampingLaw == TyreDampingLaw::Stiffness;
+    if (key == "c") return power ? &c : nullptr;
+    if (key == "damping_exponent") return power ? &dampingExponent : nullptr;
+    if (key == "damping_ratio") return stiff ? &dampingRatio : nullptr;
+    if (key == "damping_mass") return stiff ? &dampingMass : nullptr;
     if (key == "mu_x") return longitudinal ? &muX : nullptr;
     if (key == "slip_ratio") return longitudinal ? &slipRatio : nullptr;
     return nullptr;
@@ -218,7 +244,8 @@ template <class S> struct Tyre {
   template <class T> Tyre<T> cast() const {
     return {body,      castVec<T>(rho), castVec<T>(normal), T(groundHeight), T(radius),
             T(K),      T(deltaMax),     T(alpha),           law,             T(exponent),
-            curve,     damped,          T(c),               T(dampingExponent), longitudinal,
+            curve,     damped,          T(c),               T(dampingExponent), dampingLaw,
+            T(dampingRatio), T(dampingMass), compressionOnly, longitudinal,
             T(muX),    T(slipRatio),    castVec<T>(forward), T(groundSpeed)};
   }
 };

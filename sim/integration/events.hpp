@@ -112,6 +112,16 @@ template <class S> double locate(StepContext<S>& c, const DenseOutput<S>& dense,
   return tb;
 }
 
+// Is force event e (an index into the force elements' event functions) a tyre's contact, whose crossing
+// from negative is a touchdown?
+template <class S> bool startsContact(const Model<S>& m, int e) {
+  for (size_t f = 0; f < m.forces.size(); ++f) {
+    const int end = f + 1 < m.forces.size() ? m.eventOffset[f + 1] : m.nForceEvents;  // (its events: [offset, end))
+    if (m.eventOffset[f] == e && end > e) return std::holds_alternative<Tyre<S>>(m.forces[f].type);
+  }
+  return false;
+}
+
 // Handles the events between the step's start (g0) and its end (g1 = w.g1); if one triggers, moves
 // the state back onto the earliest one. Returns false on failure.
 template <class S> bool handleEvents(StepContext<S>& c, const DenseOutput<S>& dense, RunStatus& st, bool& hadEvent) {
@@ -135,6 +145,7 @@ template <class S> bool handleEvents(StepContext<S>& c, const DenseOutput<S>& de
   if (first < 0) return true;
   hadEvent = true;
   ++st.events;
+  if (first >= c.m.nRows && value(c.w.g0[first]) < 0 && startsContact(c.m, first - c.m.nRows)) c.touchdown = true;
   ScopedStage timer(c.w.timer, kEvents, c.m.settings.profile);
   // The event time carries the derivatives of g (one Newton correction in S); its value is tFirst.
   // (For double there are no derivatives: only a stuck friction lock needs its reaction's sign there.)
@@ -241,6 +252,10 @@ template <class S> Accepted settleAtRetryFloor(StepContext<S>& c, double h, doub
 // rtol 1e-2, the step regrowing at most four-fold a step after each; at half the proposal it takes 47
 // to 0.085 %, and the evaluations over every case of every shipped scene fall by 2 .. 3 %, the worst
 // errors within --accuracy's promise.) Returns false on failure.
+// A touchdown (a tyre's contact starting, after a fall or a bounce) restarts as a run does, at the first
+// trial step (Settings::step) at most: the steps of the flight before it, grown on a motion the error
+// estimate follows exactly, say nothing of the impact's, and the first step after it would otherwise carry
+// the orifices' dissipation (a quadrature the estimate does not control) over milliseconds.
 constexpr double kEventRestart = 0.5;
 template <class S> bool endOnEvent(StepContext<S>& c, double& hNext, RunStatus& st, bool& ended) {
   if (!handleEvents(c, c.dense, st, ended)) {
@@ -251,6 +266,8 @@ template <class S> bool endOnEvent(StepContext<S>& c, double& hNext, RunStatus& 
   if (!ended) return true;
   if (!refresh(c)) return failNonFinite(c, st);
   hNext = std::max(kEventRestart * hNext, 1e-8);
+  if (c.touchdown) hNext = std::min(hNext, c.m.settings.step);
+  c.touchdown = false;
   return true;
 }
 

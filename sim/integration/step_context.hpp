@@ -71,6 +71,7 @@ template <class S> struct StepContext {
   double rtol = 0, atol = 0;  // the adaptive steps' tolerances: the settings', or after a switch to ros34pw2 its own
   StiffnessTest stiffness;    // dopri5's test of h |lambda| against its stability bound
   StiffHandOver handOver;     // and the cost of acting on it
+  bool touchdown = false;     // the event just handled was a touchdown (events.hpp: endOnEvent)
 };
 
 template <class S> RunStatus& fail(StepContext<S>& c, RunStatus& st, const std::string& why) {
@@ -89,6 +90,23 @@ template <class S> void forceOutputs(StepContext<S>& c) {
   const Kins<S> K = c.w.kins();
   for (size_t f = 0; f < c.m.forces.size(); ++f)
     std::visit([&](const auto& e) { e.outputs(K, c.w.outputs.data() + c.m.outputOffset[f]); }, c.m.forces[f].type);
+}
+
+// The time the first tyre in the air that falls toward the ground takes to touch it at its present rate,
+// -delta / delta' (the outputs at the step's start); infinity when none does. An adaptive step ends no
+// later: a step across the touchdown integrates the impact's first instants with the flight's stages,
+// and its dense output, on which the contact is located, then misplaces the state there (a drop from a
+// height, the bounce of a free drop). Falling faster than that rate, the gear crosses within the last of
+// the steps, its gap shrinking quadratically from one to the next.
+template <class S> double touchdownHorizon(const StepContext<S>& c) {
+  double horizon = std::numeric_limits<double>::infinity();
+  for (size_t f = 0; f < c.m.forces.size(); ++f) {
+    if (!std::holds_alternative<Tyre<S>>(c.m.forces[f].type)) continue;
+    const S* out = c.w.outputs.data() + c.m.outputOffset[f];  // delta, P_t, delta', ...
+    const double delta = value(out[0]), rate = value(out[2]);
+    if (delta < 0 && rate > 0) horizon = std::min(horizon, -delta / rate);
+  }
+  return horizon;
 }
 
 // f at the current state into w.ydot (always the derivative at s.y), event functions into g0.

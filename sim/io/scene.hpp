@@ -3,6 +3,8 @@
 // caller exits with status 2 before writing anything. See README.md, "Scene files".
 #pragma once
 
+#include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -40,10 +42,13 @@ class InputError : public std::runtime_error {
   std::string key_;
 };
 
-// A named drop test: every body starts with velocity (0, -sinkSpeed, 0) along -gravity, no rotation.
+// A named drop test: every body starts with velocity (0, -sinkSpeed, 0) along -gravity, no rotation, at
+// the scene's positions (touchdown) or, from a height, dropHeight above them.
 struct DropCase {
   std::string name;
-  double sinkSpeed = 0;    // [m/s] V_y0
+  double sinkSpeed = 0;    // [m/s] V_y0: at touchdown, or (dropHeight > 0) at the release
+  double dropHeight = 0;   // [m] h_d: the release this far above the touchdown positions (the gear hanging on
+                           // its extension stop); touchdown at sqrt(V_y0^2 + 2 g (1 - L) h_d) (touchdownSpeed)
   double liftRatio = 0;    // [-] L: lift P_H = L G g on the lift elements
   double duration = 0.8;   // [s]
   double forwardSpeed = 0; // [m/s] V_x: the ground moves aft at V_x under the tyres that declare mu_x
@@ -52,6 +57,22 @@ struct DropCase {
   // the scene's own point (Envelope::point).
   std::optional<EnvelopeCorner> corner;
 };
+
+// The speed at touchdown of a drop from the height h [m] released at v0 [m/s] with lift ratio L: the gear
+// moves as one body until its tyre touches (a rigid extension stop), accelerated by g (1 - L) (the lift
+// acts from the release on): sqrt(v0^2 + 2 g (1 - L) h); v0 itself when h = 0. NaN when a drop from a
+// height never reaches the ground (v0^2 + 2 g (1 - L) h <= 0).
+template <class S> S touchdownSpeed(const S& v0, const S& L, double h, double g) {
+  using std::sqrt;
+  if (h == 0) return v0;
+  const S v2 = v0 * v0 + S(2 * g * h) * (S(1) - L);
+  return v2 > S(0) ? S(sqrt(v2)) : S(std::numeric_limits<double>::quiet_NaN());
+}
+inline double touchdownSpeed(const DropCase& c, double g) { return touchdownSpeed(c.sinkSpeed, c.liftRatio, c.dropHeight, g); }
+// The time of that fall [s]: h over the mean of the release and touchdown speeds.
+inline double fallTime(const DropCase& c, double g) {
+  return c.dropHeight > 0 ? 2 * c.dropHeight / (c.sinkSpeed + touchdownSpeed(c, g)) : 0.0;
+}
 
 // What a scene declares for the drop-test reports.
 struct GearRoles {

@@ -91,6 +91,7 @@ struct SceneBuilder {
   void readStrutOrifices(const TomlReader& r, ShockAbsorber<double>& s);
   void readStrutGas(const TomlReader& r, ShockAbsorber<double>& s);
   void readStrutCheckValve(const TomlReader& r, ShockAbsorber<double>& s);
+  void readTyreDamping(const TomlReader& r, Tyre<double>& t);
   void readTyre(const TomlReader& r, ForceElement<double>& f);
   void readTyreLaw(const TomlReader& r, Tyre<double>& t);
   void readTyreLongitudinal(const TomlReader& r, Tyre<double>& t);

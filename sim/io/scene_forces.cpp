@@ -175,7 +175,8 @@ void SceneBuilder::readStrutCheckValve(const TomlReader& r, ShockAbsorber<double
 
 void SceneBuilder::readTyre(const TomlReader& r, ForceElement<double>& f) {
   r.allowOnly({"name", "type", "body", "point", "radius", "K", "delta_max", "alpha", "ground_normal", "ground_height",
-               "law", "exponent", "load_table", "c", "damping_exponent", "mu_x", "slip_ratio", "forward"});
+               "law", "exponent", "load_table", "c", "damping_exponent", "damping_law", "damping_ratio", "damping_mass",
+               "damping_direction", "mu_x", "slip_ratio", "forward"});
   Tyre<double> t;
   t.body = bodyRef(r, "body", false);
   const Vec3<double> centre = r.vec3("point", poses[t.body].r);
@@ -184,13 +185,39 @@ void SceneBuilder::readTyre(const TomlReader& r, ForceElement<double>& f) {
   t.groundHeight = r.number("ground_height", 0.0);
   t.radius = r.positive("radius");
   readTyreLaw(r, t);
-  t.damped = r.has("c");
-  if (!t.damped && r.has("damping_exponent")) r.fail("damping_exponent", "needs the damping coefficient c");
-  t.c = r.nonNegative("c", 0.0);
-  t.dampingExponent = r.nonNegative("damping_exponent", 0.0);
+  readTyreDamping(r, t);
   readTyreLongitudinal(r, t);
   f.type = t;
   sc.roles.tyres.push_back(static_cast<int>(m.forces.size()));
+}
+
+// The damping: its coefficient's law (power: c, damping_exponent; stiffness: damping_ratio, damping_mass)
+// and its direction; a key of the other law is named, never ignored.
+void SceneBuilder::readTyreDamping(const TomlReader& r, Tyre<double>& t) {
+  const std::string law = r.string("damping_law", "power");
+  if (law != "power" && law != "stiffness")
+    r.fail("damping_law", "value '" + law + "' must be \"power\" (c (delta/delta_max)^q) or \"stiffness\" (2 zeta sqrt(k_t m))");
+  if (law == "stiffness") {
+    for (const char* key : {"c", "damping_exponent"})
+      if (r.has(key)) r.fail(key, "not a parameter of damping_law = \"stiffness\" (it uses damping_ratio, damping_mass)");
+    t.damped = true;
+    t.dampingLaw = TyreDampingLaw::Stiffness;
+    t.dampingRatio = r.positive("damping_ratio");
+    t.dampingMass = r.positive("damping_mass");
+  } else {
+    for (const char* key : {"damping_ratio", "damping_mass"})
+      if (r.has(key)) r.fail(key, "a parameter of damping_law = \"stiffness\" (this tyre's damping law is \"power\")");
+    t.damped = r.has("c");
+    if (!t.damped && r.has("damping_exponent")) r.fail("damping_exponent", "needs the damping coefficient c");
+    t.c = r.nonNegative("c", 0.0);
+    t.dampingExponent = r.nonNegative("damping_exponent", 0.0);
+  }
+  const std::string dir = r.string("damping_direction", "both");
+  if (dir != "both" && dir != "compression")
+    r.fail("damping_direction", "value '" + dir + "' must be \"both\" or \"compression\" (the damping acts while the tyre compresses only)");
+  if (r.has("damping_direction") && !t.damped)
+    r.fail("damping_direction", "needs a damping law (c, or damping_law = \"stiffness\")");
+  t.compressionOnly = dir == "compression";
 }
 
 // The load law and the keys it takes (a key of another law is named, never ignored).

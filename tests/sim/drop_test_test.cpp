@@ -5,6 +5,8 @@
 // near what is achieved; the achieved
 // differences are printed (run sim_tests "[validation]" -s to see them).
 #include "scene_support.hpp"  // sim headers, then Catch (see there)
+#include "tests/sim/bad_input_support.hpp"
+#include "tests/sim/engine_support.hpp"
 #include <algorithm>
 #include <cstdio>
 
@@ -524,5 +526,118 @@ TEST_CASE("ros34pw2: the hard cases stay stable and agree with the reference", "
     // rtol 1e-5: the extrema agree to 1.3e-5, the integrals to 1e-4
     if (v.duration < 1)
       compareWithReference(v.label, m, ref::simulateSeedGear(seedParams(sc), v.V, v.L, v.duration), 5e-5, 3e-4);
+  }
+}
+
+namespace {
+// The shipped seed gear (exact Coulomb friction, a rigid extension stop) with these cases only.
+lg::Scene seedWithCases(const toml::array& cases) {
+  toml::table doc = lgtest::shippedDoc("data/seed_gear.toml");
+  doc.insert_or_assign("case", cases);
+  return lgtest::build(doc);
+}
+}  // namespace
+
+// A drop from a height (case key drop_height): released h_d above the touchdown positions at v_0, the gear
+// hanging on its rigid extension stop (the gas preload holds it there, the lift acts from the release), the
+// whole falls as one body at g (1 - L) and touches down after t_f = 2 h_d / (v_0 + v_td) at
+// v_td = sqrt(v_0^2 + 2 g (1 - L) h_d). Integrated to t_f: every body at -v_td along gravity and the airframe
+// h_d lower, to 1e-9 (measured 1e-15 .. 3e-13: the motion is a parabola, which dopri5 integrates exactly).
+TEST_CASE("drop test: a drop from a height touches down at sqrt(v0^2 + 2 g (1 - L) h)", "[drop_test][drop_height]") {
+  const double g = 9.80665, h = 0.30, v0 = 1.0;
+  for (const double L : {0.0, 0.5}) {
+    INFO("lift ratio " << L);
+    const lg::Scene sc = seedWithCases(toml::array{toml::table{{"name", "fall"}, {"drop_height", h}, {"sink_speed", v0}, {"lift_ratio", L}}});
+    const lg::DropCase& c = sc.cases[0];
+    const double vtd = std::sqrt(v0 * v0 + 2 * g * (1 - L) * h), tf = 2 * h / (v0 + vtd);
+    CHECK(lg::touchdownSpeed(c, sc.gravity) == Approx(vtd).epsilon(1e-15));
+    CHECK(lg::fallTime(c, sc.gravity) == Approx(tf).epsilon(1e-15));
+    CHECK(c.duration == Approx(0.8 + tf).epsilon(1e-15));  // (0.8 s after the touchdown)
+    const lg::Model<double> m = lg::caseModel(sc, c);
+    lg::State<double> s = lg::caseState(sc, m, c);
+    lg::Workspace<double> w(m);
+    const int a = m.bodyIndex("airframe"), N = m.nBodies();
+    const lg::Vec3<double> up = sc.up, r0 = s.y.segment<3>(7 * a);
+    CHECK((r0 - sc.initial.y.segment<3>(7 * a)).dot(up) == Approx(h).epsilon(1e-15));
+    const lg::RunStatus st = lg::simulate(m, s, w, tf);
+    REQUIRE(st.ok);
+    double worstV = 0;
+    for (int b = 0; b < N; ++b) worstV = std::max(worstV, (s.y.segment<3>(7 * N + 6 * b) + vtd * up).norm() / vtd);
+    const double fell = (r0 - s.y.segment<3>(7 * a)).dot(up);
+    lgtest::report("drop from %.2f m at %.1f m/s, L %.1f: touchdown at %.6f s, speeds to %.1e, fall %.1e off", h, v0, L, tf, worstV,
+                   fell / h - 1);
+    CHECK(worstV < 1e-9);
+    CHECK(std::abs(fell / h - 1) < 1e-9);
+  }
+}
+
+// The drop from a height is the drop at its touchdown speed, later by the fall: the same peak load, stroke,
+// travel (h measured from the touchdown positions), energy to absorb and efficiency (measured 5e-8 at most:
+// the two runs' adaptive steps differ), its peak t_f later, each run's energy balance closed.
+TEST_CASE("drop test: a drop from a height equals the drop at its touchdown speed", "[drop_test][drop_height]") {
+  const double g = 9.80665, h = 0.20, L = 0.5, vtd = 3.05, v0 = std::sqrt(vtd * vtd - 2 * g * (1 - L) * h);
+  const lg::Scene sc = seedWithCases(toml::array{
+      toml::table{{"name", "from-height"}, {"drop_height", h}, {"sink_speed", v0}, {"lift_ratio", L}},
+      toml::table{{"name", "at-contact"}, {"sink_speed", vtd}, {"lift_ratio", L}}});
+  const lg::Scene tight = lg::withSolver(sc, lg::IntegratorKind::DormandPrince, 1e-10);  // (the physics, not the steps)
+  const lg::CaseMetrics a = lg::runCase(tight, sc.cases[0]).metrics, b = lg::runCase(tight, sc.cases[1]).metrics;
+  REQUIRE(a.ok);
+  REQUIRE(b.ok);
+  const double tf = lg::fallTime(sc.cases[0], sc.gravity);
+  lgtest::report("from %.2f m: peak %.4f vs %.4f N, t_peak %.6f - %.6f = %.6f (t_f %.6f), h_max %.6f vs %.6f, E_bal %.1e %.1e",
+                 h, a.peak_load_N, b.peak_load_N, a.t_peak_s, b.t_peak_s, a.t_peak_s - b.t_peak_s, tf, a.h_max_m, b.h_max_m,
+                 a.energy_balance_error, b.energy_balance_error);
+  CHECK(a.sink_speed_mps == Approx(vtd).epsilon(1e-14));
+  CHECK(a.peak_load_N == Approx(b.peak_load_N).epsilon(2e-7));
+  CHECK(a.stroke_max_m == Approx(b.stroke_max_m).epsilon(2e-7));
+  CHECK(a.h_max_m == Approx(b.h_max_m).epsilon(2e-7));
+  CHECK(a.energy_to_absorb_J == Approx(b.energy_to_absorb_J).epsilon(2e-7));
+  CHECK(a.efficiency == Approx(b.efficiency).epsilon(2e-7));
+  CHECK(a.t_peak_s - b.t_peak_s == Approx(tf).epsilon(1e-5));
+  CHECK(a.energy_balance_error < 1e-6);
+  CHECK(b.energy_balance_error < 1e-6);
+}
+
+TEST_CASE("drop test: a drop from a height, bad input names file, line, key and rule", "[drop_test][drop_height][input]") {
+  lgtest::TempDir dir("drop_height_bad");
+  const std::string good = lgtest::readFile(lgtest::sourcePath("data/seed_gear.toml"));
+  const std::string limitCase = "name = \"limit\"\nsink_speed = 3.05\nlift_ratio = 1.0";
+  REQUIRE(good.find(limitCase) != std::string::npos);
+  auto with = [&](const std::string& to) { return lgtest::replacedText(good, limitCase, to); };
+  lgtest::checkBadInputs(
+      {
+          {"negative height", with("name = \"limit\"\ndrop_height = -0.2\nlift_ratio = 1.0"), "drop_height", "case[2].drop_height",
+           "value -0.2 must be >= 0"},
+          {"never lands", with("name = \"limit\"\ndrop_height = 0.2\nlift_ratio = 1.0"), "drop_height", "case[2].drop_height",
+           "the gear never reaches the ground: with lift_ratio 1 >= 1 it does not fall, so a drop from a height needs sink_speed > 0"},
+          {"too fast", with("name = \"limit\"\ndrop_height = 8.0\nlift_ratio = 0.0"), "drop_height", "case[2].drop_height",
+           "the touchdown speed sqrt(sink_speed^2 + 2 g (1 - lift_ratio) drop_height): value 12.52622848 m/s is above 10 m/s"},
+      },
+      dir);
+}
+
+// Zero loads everywhere: each shipped gear released from rest 0.1 m above the ground, no lift, no forward
+// speed. At the release every element sits at zero: the strut at zero stroke rate (its exact friction
+// decided at rest), the tyres unloaded with zero slip, the fore-aft spring of the main gear and the
+// bushing-free legs unloaded, the friction gear's bearings at zero reaction (nothing bends the leg in the
+// air); the second stage of the nose gear's gas spring idle. Every drop runs, lands at sqrt(2 g h) and, at
+// rtol 1e-8, closes its energy balance to 1e-7 (measured 3e-12 .. 3.1e-8). (At the scenes' rtol 1e-6 the balance of a drop from rest
+// is 1e-6 .. 4e-6, 1.5e-9 for the main gear: the integration's error around the touchdown, which falls with
+// rtol, 1.1e-6, 3.7e-7, 3.3e-8 at 1e-6, 1e-7, 1e-8 for the seed gear; before the steps in flight stopped
+// at the touchdown (touchdownHorizon), 8e-5. A drop at contact closes to 3e-8 at rtol 1e-6.)
+TEST_CASE("drop test: zero loads everywhere, each gear released from rest", "[drop_test][drop_height][energy]") {
+  const double h = 0.1, vtd = std::sqrt(2 * 9.80665 * h);
+  for (const char* file : {"data/seed_gear.toml", "data/nose_gear.toml", "data/main_gear.toml", "data/friction_gear.toml"}) {
+    INFO(file);
+    toml::table doc = lgtest::shippedDoc(file);
+    doc.insert_or_assign("case", toml::array{toml::table{{"name", "rest"}, {"drop_height", h}, {"lift_ratio", 0.0}}});
+    const lg::Scene sc = lg::withSolver(lgtest::build(doc), lg::IntegratorKind::DormandPrince, 1e-8);
+    const lg::CaseMetrics mt = lg::runCase(sc, sc.cases[0]).metrics;
+    lgtest::report("%s from rest at %.1f m: %s, peak %.1f N, E_bal %.1e", file, h, mt.ok ? "ok" : mt.message.c_str(), mt.peak_load_N,
+                   mt.energy_balance_error);
+    REQUIRE(mt.ok);
+    CHECK(mt.sink_speed_mps == Approx(vtd).epsilon(1e-15));
+    CHECK(mt.peak_load_N > 0);
+    CHECK(mt.energy_balance_error < 1e-7);
   }
 }
