@@ -38,7 +38,7 @@
 // Events: contact start and end (delta crossing 0); with damping, P_s + P_d crossing 0 (the clamp); with
 // compression-only damping, delta' crossing 0 (its kink: the largest deflection).
 // Outputs: delta, P_t, their rates delta' and P_t' = dP_s/ddelta delta' (0 out of contact; with damping
-// the rate of the elastic part and of the damping's coefficient only, the term c delta'' needs the
+// the rate of the elastic part and of the power law's coefficient only, the term c delta'' needs the
 // wheel's acceleration: the drop-test observer takes a damped tyre's load rate on the dense output), and
 // with a longitudinal force P_x and v_s.
 #pragma once
