@@ -378,11 +378,9 @@ void SceneBuilder::finishBearings() {
     for (size_t g = 0; g < m.forces.size(); ++g) {
       const auto* s = std::get_if<ShockAbsorber<double>>(&m.forces[g].type);
       if (!s || !s->coulomb || !((s->bi == b->bi && s->bj == b->bj) || (s->bi == b->bj && s->bj == b->bi))) continue;
-      const Pose pc = b->bj < 0 ? Pose{} : poses[b->bj];
-      const Vec3<double> e = pc.R * b->n_a.cross(b->n_b);
-      const Vec3<double> p0 = (b->bi < 0 ? Pose{} : poses[b->bi]).r + (b->bi < 0 ? Mat3<double>::Identity() : poses[b->bi].R) * b->rho_1;
       auto at = [&](int body, const Vec3<double>& rho) { return body < 0 ? rho : Vec3<double>(poses[body].r + poses[body].R * rho); };
-      const Vec3<double> B = at(s->bi, s->rho_i), C = at(s->bj, s->rho_j);
+      const Vec3<double> e = (b->bj < 0 ? Mat3<double>::Identity() : poses[b->bj].R) * b->n_a.cross(b->n_b);
+      const Vec3<double> p0 = at(b->bi, b->rho_1), B = at(s->bi, s->rho_i), C = at(s->bj, s->rho_j);
       TomlReader r(*forceTables[f], file, "force[" + std::to_string(f) + "]");
       for (const Vec3<double>& p : {B, C}) {
         const Vec3<double> d = p - p0;
