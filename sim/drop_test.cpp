@@ -91,8 +91,8 @@ Model<double> caseModel(const Scene& scene, const DropCase& c) {
   return m;
 }
 
-State<double> caseState(const Scene& scene, const Model<double>& m, const DropCase& c) {
-  return caseState(scene, m, c.sinkSpeed, c.dropHeight);
+State<double> caseState(const Scene& scene, const Model<double>& m, const DropCase& c, std::string* problem) {
+  return caseState(scene, m, c.sinkSpeed, c.dropHeight, problem);
 }
 
 CaseMetrics caseMetrics(const CaseFigures<double>& F, const Scene& scene, const DropCase& c) {
@@ -155,7 +155,16 @@ CaseResult runOnce(const Scene& scene, const DropCase& c, const CaseOptions& opt
   const auto start = std::chrono::steady_clock::now();
   CaseResult res;
   const Model<double> m = caseModel(scene, c);
-  State<double> s = caseState(scene, m, c);
+  std::string hang;
+  State<double> s = caseState(scene, m, c, &hang);
+  if (!hang.empty()) {  // (no run: the gear has no hanging configuration to start from)
+    res.metrics.name = c.name;
+    res.metrics.sink_speed_mps = touchdownSpeed(c, scene.gravity);
+    res.metrics.lift_ratio = c.liftRatio;
+    res.metrics.ok = false;
+    res.metrics.message = hang;
+    return res;
+  }
   Workspace<double> w(m);
   DropObserver<double> obs(scene, m, c, c.sinkSpeed, c.liftRatio, opt, &res);
   const RunStatus st = simulate(m, s, w, c.duration, obs);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sim/io/scene.hpp"
+#include "sim/hang.hpp"
 #include "sim/integrators.hpp"
 
 namespace lg {
@@ -164,14 +165,21 @@ void applyCase(const Scene& scene, Model<S>& m, const DropCase& c, const S& lift
     cf.force = dir.template cast<S>() * (liftRatio * G * S(scene.gravity));
   }
 }
-// Initial state of a case: scene positions (raised by dropHeight [m] for a drop from a height), every body
-// moving at the sink speed against gravity.
-template <class S> State<S> caseState(const Scene& scene, const Model<S>& m, const S& sinkSpeed, double dropHeight = 0) {
+// Initial state of a case: scene positions (the gear hanging on its elastic extension stops, sim/hang.hpp;
+// raised by dropHeight [m] for a drop from a height), every body moving at the sink speed against
+// gravity. Where the hang does not settle, 'problem' says why and the positions are NaN.
+template <class S> State<S> caseState(const Scene& scene, const Model<S>& m, const S& sinkSpeed, double dropHeight = 0,
+                                      std::string* problem = nullptr) {
   State<S> s(m);
   s.y = scene.initial.y.template cast<S>();
   s.lambda = scene.initial.lambda.template cast<S>();
   s.active = scene.initial.active;
   const int N = m.nBodies();
+  std::string why;
+  if (!hangOnPads(scene, m, s.y, &why)) {
+    s.y.head(7 * N).setConstant(S(std::numeric_limits<double>::quiet_NaN()));
+    if (problem) *problem = why;
+  }
   for (int b = 0; b < N; ++b) {
     s.y.template segment<3>(7 * b) += (dropHeight * scene.up).template cast<S>();
     s.y.template segment<3>(7 * N + 6 * b) = -sinkSpeed * scene.up.template cast<S>();
@@ -183,7 +191,7 @@ template <class S> State<S> caseState(const Scene& scene, const Model<S>& m, con
 // The model of a case: the scene's model with the case's masses and lift applied.
 Model<double> caseModel(const Scene& scene, const DropCase& c);
 // Initial state of a case: scene positions, every body moving at sinkSpeed against gravity.
-State<double> caseState(const Scene& scene, const Model<double>& m, const DropCase& c);
+State<double> caseState(const Scene& scene, const Model<double>& m, const DropCase& c, std::string* problem = nullptr);
 
 // Runs a case. A run whose settings came from an accuracy (Settings::accuracy) and whose peak turns out
 // flatter than the calibration's, or to have a twin of nearly its height (sim/accuracy.hpp), is run

@@ -33,6 +33,8 @@ class Checker {
       if (!(m_.bodies[b].mass > 0)) return problem("body", b, "mass", "value " + num(m_.bodies[b].mass) + " must be > 0");
     for (size_t k = 0; k < sc_.roles.stops.size(); ++k)
       if (auto p = stop(static_cast<int>(k))) return p;
+    for (size_t k = 0; k < sc_.roles.pads.size(); ++k)
+      if (auto p = pad(static_cast<int>(k))) return p;
     sc_.roles.strokeLimits.assign(sc_.roles.struts.size(), std::numeric_limits<double>::quiet_NaN());
     sc_.roles.bottomingStops.assign(sc_.roles.struts.size(), -1);
     for (size_t f = 0; f < m_.forces.size(); ++f) {
@@ -73,15 +75,32 @@ class Checker {
   // A "no nearer" (bottoming) stop on the same two points as a "no farther" (extension) stop must be
   // shorter than it, or the two leave no stroke between them.
   std::optional<SceneProblem> stop(int k) const {
+    const int entry = sc_.roles.stopEntry[k];
     const auto& A = std::get<DistanceStop<double>>(m_.constraints[sc_.roles.stops[k]].type);
-    if (!(A.L > 0)) return problem("stop", k, A.noFarther ? "max_distance" : "min_distance", "value " + num(A.L) + " must be > 0");
+    if (!(A.L > 0)) return problem("stop", entry, A.noFarther ? "max_distance" : "min_distance", "value " + num(A.L) + " must be > 0");
     if (A.noFarther) return std::nullopt;
+    auto longer = [&](double L, const std::string& name) {
+      return problem("stop", entry, "min_distance", "value " + num(A.L) + " m must be shorter than the max_distance " + num(L) +
+                                                        " m of stop '" + name + "' on the same points");
+    };
     for (int ci : sc_.roles.stops) {
       const auto& B = std::get<DistanceStop<double>>(m_.constraints[ci].type);
       if (B.noFarther && samePair(A.bi, A.rho_i, A.bj, A.rho_j, B.bi, B.rho_i, B.bj, B.rho_j) && !(A.L < B.L))
-        return problem("stop", k, "min_distance", "value " + num(A.L) + " m must be shorter than the max_distance " +
-                                                      num(B.L) + " m of stop '" + m_.constraints[ci].name + "' on the same points");
+        return longer(B.L, m_.constraints[ci].name);
     }
+    for (int f : sc_.roles.pads) {
+      const auto& B = std::get<StopPad<double>>(m_.forces[f].type);
+      if (samePair(A.bi, A.rho_i, A.bj, A.rho_j, B.bi, B.rho_i, B.bj, B.rho_j) && !(A.L < B.L)) return longer(B.L, m_.forces[f].name);
+    }
+    return std::nullopt;
+  }
+  // An elastic extension stop (a design may move its values).
+  std::optional<SceneProblem> pad(int k) const {
+    const int entry = sc_.roles.padEntry[k];
+    const auto& P = std::get<StopPad<double>>(m_.forces[sc_.roles.pads[k]].type);
+    if (!(P.L > 0)) return problem("stop", entry, "max_distance", "value " + num(P.L) + " must be > 0");
+    if (!(P.k > 0)) return problem("stop", entry, "stiffness", "value " + num(P.k) + " must be > 0");
+    if (!(P.c >= 0)) return problem("stop", entry, "damping", "value " + num(P.c) + " must be >= 0");
     return std::nullopt;
   }
 
@@ -291,8 +310,12 @@ std::string describe(const Scene& scene, const SceneProblem& p) {
   const Model<double>& m = scene.model;
   if (p.array == "body" && p.index < m.nBodies()) element = m.bodies[p.index].name;
   else if (p.array == "force" && p.index < static_cast<int>(m.forces.size())) element = m.forces[p.index].name;
-  else if (p.array == "stop" && p.index < static_cast<int>(scene.roles.stops.size()))
-    element = m.constraints[scene.roles.stops[p.index]].name;
+  else if (p.array == "stop") {
+    for (size_t k = 0; k < scene.roles.stopEntry.size(); ++k)
+      if (scene.roles.stopEntry[k] == p.index) element = m.constraints[scene.roles.stops[k]].name;
+    for (size_t k = 0; k < scene.roles.padEntry.size(); ++k)
+      if (scene.roles.padEntry[k] == p.index) element = m.forces[scene.roles.pads[k]].name;
+  }
   else if (p.array == "case" && p.index < static_cast<int>(scene.cases.size())) element = scene.cases[p.index].name;
   return element + "." + p.key + ": " + p.rule;
 }

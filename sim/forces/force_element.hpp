@@ -16,13 +16,14 @@
 #include "sim/forces/gravity.hpp"
 #include "sim/forces/shock_absorber.hpp"
 #include "sim/forces/spring_damper.hpp"
+#include "sim/forces/stop_pad.hpp"
 #include "sim/forces/tyre.hpp"
 
 namespace lg {
 
 template <class S>
 using ForceType = std::variant<Gravity<S>, ConstantForce<S>, ShockAbsorber<S>, Tyre<S>, SpringDamper<S>,
-                               Bushing<S>, BearingFriction<S>>;
+                               Bushing<S>, BearingFriction<S>, StopPad<S>>;
 
 template <class S> struct ForceElement {
   std::string name;

@@ -170,6 +170,7 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   b.readForces();
   b.finishLifts();
   b.finishBearings();
+  b.finishStops();
   b.findAirframe();
   sc.model.finalize();
   readInitialState(b);

@@ -78,7 +78,9 @@ inline double fallTime(const DropCase& c, double g) {
 struct GearRoles {
   std::string airframe;                 // body whose vertical displacement is h
   std::vector<int> tyres, struts;       // force element indices
-  std::vector<int> stops;               // constraint indices of the unilateral stops
+  std::vector<int> stops;               // constraint indices of the rigid (unilateral) stops
+  std::vector<int> pads;                // force indices of the elastic extension stops (StopPad)
+  std::vector<int> stopEntry, padEntry; // per rigid stop, per pad: its row of the file's [[stop]] array
   std::vector<int> lifts;               // force element indices of lift elements
   std::vector<double> strokeLimits;     // per strut: S_max [m], the stroke at its bottoming stop (a
                                         // "min_distance" stop on the strut's own two points); NaN if none

@@ -57,6 +57,8 @@ struct SceneBuilder {
   std::set<std::string> names;      // the element names used so far
   std::vector<int> constraintLine;  // per constraint: its table's line
   std::vector<const toml::table*> forceTables;  // the [[force]] rows
+  std::vector<std::pair<ForceElement<double>, int>> pads;  // the elastic stops and their [[stop]] rows,
+                                                           // added after the [[force]] elements
   Vec3<double> g = Vec3<double>::Zero();        // the gravity element's g
   bool hasGravity = false;
   int planeLine = 0;                            // [scene] plane_normal's line (a planar model)
@@ -98,9 +100,11 @@ struct SceneBuilder {
   void readSpringDamper(const TomlReader& r, ForceElement<double>& f);
   void readBushing(const TomlReader& r, ForceElement<double>& f);
   void readBearingFriction(const TomlReader& r, ForceElement<double>& f);
-  // After the force elements: |g| and up, each lift element's direction, the airframe.
+  // After the force elements: |g| and up, each lift element's direction, the bearings' struts, the
+  // elastic stops (after every [[force]] row, whose indices stay those of the file), the airframe.
   void finishLifts();
   void finishBearings();
+  void finishStops();
   void findAirframe();
 };
 

@@ -178,21 +178,41 @@ void SceneBuilder::readJoint(const toml::table& t, size_t i) {
   constraintLine.push_back(r.line());
 }
 
-// [[stop]]
+// [[stop]]: rigid (a unilateral constraint row), or elastic with `stiffness` (a penalty pad, StopPad:
+// a force element, added by finishStops after the [[force]] rows).
 void SceneBuilder::readStops() {
   const auto stops = tablesOf(doc, "stop", file);
   for (size_t i = 0; i < stops.size(); ++i) {
     TomlReader r(*stops[i], file, "stop[" + std::to_string(i) + "]");
-    r.allowOnly({"name", "body1", "point1", "body2", "point2", "max_distance", "min_distance"});
-    Constraint<double> c;
-    c.name = uniqueName(r);
+    r.allowOnly({"name", "body1", "point1", "body2", "point2", "max_distance", "min_distance", "stiffness", "damping"});
+    const std::string name = uniqueName(r);
     const int bi = bodyRef(r, "body1"), bj = bodyRef(r, "body2");
     if (bi == bj) r.fail("body2", "a stop needs two different bodies");
     const bool hasMax = r.has("max_distance"), hasMin = r.has("min_distance");
     if (hasMax == hasMin) r.fail(hasMax ? "min_distance" : "max_distance", "give exactly one of max_distance, min_distance");
     const double L = hasMax ? r.positive("max_distance") : r.positive("min_distance");
-    c.type = DistanceStop<double>{bi, bj, toBody(bi, r.vec3("point1")), toBody(bj, r.vec3("point2")), L, hasMax};
+    const Vec3<double> p1 = r.vec3("point1"), p2 = r.vec3("point2");  // (scene axes, at t = 0)
+    const Vec3<double> rho_i = toBody(bi, p1), rho_j = toBody(bj, p2);
+    if (r.has("damping") && !r.has("stiffness")) r.fail("damping", "a rigid stop has no damping: give stiffness too (an elastic stop)");
+    if (r.has("stiffness")) {
+      if (!hasMax) r.fail("stiffness", "an elastic stop is an extension stop: give max_distance (a bottoming stop stays rigid)");
+      ForceElement<double> f;
+      f.name = name;
+      StopPad<double> p{bi, bj, rho_i, rho_j, L, r.positive("stiffness")};
+      p.damped = r.has("damping");
+      p.c = r.nonNegative("damping", 0.0);
+      if ((p2 - p1).norm() - L > 1e-6)
+        r.fail("max_distance", "the initial positions press this stop by " + fmt((p2 - p1).norm() - L) +
+                                   " m (tolerance 1e-6 m): the scene's positions are the unloaded ones; check its points");
+      f.type = p;
+      pads.push_back({f, static_cast<int>(i)});
+      continue;
+    }
+    Constraint<double> c;
+    c.name = name;
+    c.type = DistanceStop<double>{bi, bj, rho_i, rho_j, L, hasMax};
     sc.roles.stops.push_back(static_cast<int>(m.constraints.size()));
+    sc.roles.stopEntry.push_back(static_cast<int>(i));
     m.constraints.push_back(c);
     constraintLine.push_back(r.line());
   }

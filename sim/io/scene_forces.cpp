@@ -371,6 +371,15 @@ void SceneBuilder::finishLifts() {
 // Bearing friction on the slide of a Coulomb strut (the same rod and cylinder) shares that strut's
 // friction lock (bearing_friction.hpp): the strut's points must lie on the joint's axis (then the lock's
 // rate is the slide's, up to the sign c recorded here).
+// The elastic stops, after every [[force]] row.
+void SceneBuilder::finishStops() {
+  for (const auto& [f, entry] : pads) {
+    sc.roles.pads.push_back(static_cast<int>(m.forces.size()));
+    sc.roles.padEntry.push_back(entry);
+    m.forces.push_back(f);
+  }
+}
+
 void SceneBuilder::finishBearings() {
   for (size_t f = 0; f < m.forces.size(); ++f) {
     auto* b = std::get_if<BearingFriction<double>>(&m.forces[f].type);
