@@ -46,7 +46,7 @@ template <class S> bool eventTriggered(const Model<S>& m, const State<S>& s, int
     if (!m.rowInfo[i].unilateral && !m.rowInfo[i].friction()) return false;
     return s.active[i] ? (g1 < 0) : (g0 > 0 && g1 <= 0);
   }
-  return g0 * g1 < 0;
+  return (g0 < 0 && g1 >= 0) || (g0 > 0 && g1 <= 0);  // (a step that ends on g = 0 holds the event)
 }
 
 }  // namespace lg

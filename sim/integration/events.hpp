@@ -151,7 +151,7 @@ template <class S> bool handleEvents(StepContext<S>& c, const DenseOutput<S>& de
   // (For double there are no derivatives: only a stuck friction lock needs its reaction's sign there.)
   S te = S(tFirst);
   if constexpr (!std::is_same_v<S, double>) {
-    const double dt = 1e-7 * std::max(dense.h, 1e-9);
+    const double dt = 1e-7 * std::max(dense.h, 1e-3);  // (>= 1e-10 s: g's slope above its round-off)
     dense.at(S(tFirst - dt), c.w.ytmp);
     c.w.lamTmp = c.s.lambda;
     evaluate(c.m, c.w.ytmp, c.s.active, c.w.lamTmp, c.w, c.w.fTmp);
