@@ -10,7 +10,8 @@
 // pushes k x; the row adds the rest), x <- max(F, 0)/k. Each pass contracts by about the strut's
 // gas stiffness over k (the load changes only with the gas volume); it stops at round-off.
 // The gear hangs 1 m above the ground (its tyres in the air, as before touchdown); it is then moved
-// along the drop direction so that its lowest tyre touches the ground as in the scene (a contact drop touches down at t = 0; a drop from a height is raised from there).
+// along the drop direction (the ground's normal) so that its lowest tyre touches the ground as in the
+// scene: a contact drop touches down at t = 0, a drop from a height is raised from there.
 // Templated on the scalar: a design parameter's derivatives (k, p01, the masses) pass through the
 // fixed point and the projection.
 #pragma once
@@ -45,7 +46,7 @@ template <class S> bool hangOnPads(const Scene& scene, const Model<S>& m, VecX<S
   const int N = m.nBodies();
   // In the air: 1 m above the scene's pose (the tyres clear of the ground), moved back below.
   for (int b = 0; b < N; ++b) s.y.template segment<3>(7 * b) += scene.up.template cast<S>();
-  s.y.tail(6 * N).setZero();  // (every body at the same velocity: only relative ones matter)
+  s.y.segment(7 * N, 6 * N).setZero();  // (every body at the same velocity: only relative ones matter)
   for (size_t k = 0; k < pads.size(); ++k) s.active[mh.rowOffset[first + k]] = 1;
   Workspace<S> w(mh);
   impliedPlanarRows(mh, s, w);  // (a planar model: the rows out of its mode, as at a run's start)
@@ -58,7 +59,7 @@ template <class S> bool hangOnPads(const Scene& scene, const Model<S>& m, VecX<S
       if (message) *message = "the hanging configuration on the elastic stops: projection failed";
       return false;
     }
-    s.y.tail(6 * N).setZero();
+    s.y.segment(7 * N, 6 * N).setZero();
     evaluate(mh, s.y, s.active, s.lambda, w, ydot, RowsFor::Solve);
     double change = 0, size = 0;
     for (size_t k = 0; k < pads.size(); ++k) {
