@@ -31,6 +31,9 @@
 
 namespace {
 
+constexpr int kMaxCases = 10000;   // cases of one run (a matrix, the corners): beyond it, an error, not a crash
+constexpr int kMaxRows = 1000000;  // rows of one case's history at --output-interval
+
 struct Options {
   std::string scene, outDir = "out", integrator, sinkSpeeds, liftRatios;
   std::vector<std::string> cases, sets, gradient, corners;
@@ -98,6 +101,10 @@ lg::Scene loadInputs(const Options& o, const CLI::App& app, std::vector<lg::Drop
     for (double l : L)
       if (l > 0 && scene.roles.lifts.empty())
         throw lg::InputError("command line", 0, "--lift-ratios", "value " + lg::fmt(l) + ": the scene declares no lift element");
+    if (static_cast<double>(V.size()) * static_cast<double>(L.size()) > kMaxCases)
+      throw lg::InputError("command line", 0, "--lift-ratios",
+                           "the matrix has " + std::to_string(V.size() * L.size()) + " cases (sink speeds x lift ratios), more than " +
+                               std::to_string(kMaxCases) + ": run it in parts");
     cases = lg::caseMatrix(V, L, o.duration);
   } else if (o.cases.empty()) {
     cases = scene.cases;
@@ -114,6 +121,20 @@ lg::Scene loadInputs(const Options& o, const CLI::App& app, std::vector<lg::Drop
   }
   if (cases.empty()) throw lg::InputError(o.scene, 0, "case", "the scene declares no [[case]] to run");
   if (!o.corners.empty()) cases = atCorners(o, scene, cases);
+  if (static_cast<double>(cases.size()) > kMaxCases)
+    throw lg::InputError("command line", 0, "--corner",
+                         std::to_string(cases.size()) + " cases at the corners, more than " + std::to_string(kMaxCases) + ": name fewer");
+  if (o.outputInterval > 0)
+    for (const auto& c : cases) {
+      const double rows = c.duration / o.outputInterval + 1;
+      if (rows > kMaxRows)
+        throw lg::InputError("command line", 0, "--output-interval",
+                             "value " + lg::fmt(o.outputInterval) + " s gives " + lg::fmt(rows) + " rows over case '" + c.name +
+                                 "' (" + lg::fmt(c.duration) + " s), more than " + std::to_string(kMaxRows) + " per case");
+      if (o.outputInterval > c.duration)
+        std::fprintf(stderr, "simulate: warning: --output-interval %s s is longer than case '%s' (%s s): one row, at t = 0\n",
+                     lg::fmt(o.outputInterval).c_str(), c.name.c_str(), lg::fmt(c.duration).c_str());
+    }
   return scene;
 }
 

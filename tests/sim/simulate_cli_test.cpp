@@ -223,6 +223,23 @@ TEST_CASE("simulate: --help, --version and usage errors follow the shared conven
     CHECK(std::count(out.begin(), out.end(), '\n') == 1);
     CHECK(!std::filesystem::exists(dir / "out"));
   }
+  // sizes: a matrix of 1e8 cases (each list under its own cap) and 8e11 rows are refused before any run
+  for (const auto& [bad, rule] : {std::pair<std::string, std::string>{"--sink-speeds 1:0.0001:2 --lift-ratios 0:0.0001:1",
+                                                                      "key '--lift-ratios': the matrix has 100020001 cases (sink "
+                                                                      "speeds x lift ratios), more than 10000: run it in parts"},
+                                  {"--case limit --output-interval 1e-12",
+                                   "key '--output-interval': value 1e-12 s gives 8e+11 rows over case 'limit' (0.8 s), more than "
+                                   "1000000 per case"}}) {
+    INFO(bad);
+    CHECK(simulateCapture(scene + " " + bad, out) == 2);
+    CHECK(out.find(rule) != std::string::npos);
+    CHECK(std::count(out.begin(), out.end(), '\n') == 1);
+    CHECK(!std::filesystem::exists(dir / "out"));
+  }
+  // an interval longer than the run: one row, and a warning says so
+  CHECK(simulateCapture(scene + " --case limit --output-interval 2 --quiet", out) == 0);
+  CHECK(out.find("warning: --output-interval 2 s is longer than case 'limit' (0.8 s): one row, at t = 0") != std::string::npos);
+  std::filesystem::remove_all(dir / "out");
   // the rules of the file apply to an override: strut.f1 = -1e-5 is named like the scene's own key
   simulateCapture(scene + " --set strut.f1=-1e-5", out);
   CHECK(out.find("key 'force[2].f1': value -1e-05 must be > 0") != std::string::npos);
