@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <memory>
 
 #include <omp.h>
@@ -29,11 +30,14 @@
 
 namespace {
 
+constexpr int kNotGiven = std::numeric_limits<int>::min();
+
 struct Cli {
   std::string study, out, method;
   std::vector<std::string> sets;
-  int threads = 0, samples = 0;
-  long long seed = -1;
+  int threads = 0;
+  int samples = kNotGiven;           // (any value given is checked: 0 too)
+  long long seed = kNotGiven;
   bool plots = false, quiet = false;
   std::vector<std::string> argv;  // the command line as given (the provenance block)
 };
@@ -47,13 +51,16 @@ void applyCli(const Cli& c, lg::optim::SensitivitySettings& g) {
     if (!g.local && !g.morris && !g.sobol)
       throw lg::InputError("command line", 0, "--method", "value '" + c.method + "' must be local, morris, sobol or all");
   }
-  if (c.samples != 0) {
+  if (c.samples != kNotGiven) {
     if (c.samples < 8 || c.samples > (1 << 20) || (c.samples & (c.samples - 1)) != 0)
       throw lg::InputError("command line", 0, "--samples",
                            "value " + std::to_string(c.samples) + " must be a power of two in [8, 2^20]");
     g.samples = c.samples;
   }
-  if (c.seed >= 0) g.seed = static_cast<unsigned long long>(c.seed);
+  if (c.seed != kNotGiven) {
+    if (c.seed < 0) throw lg::InputError("command line", 0, "--seed", "value " + std::to_string(c.seed) + " must be >= 0");
+    g.seed = static_cast<unsigned long long>(c.seed);
+  }
 }
 
 // "peak_load@cert-reserve: strut.f1 (ST 0.61), ..." lines: the largest driver per method.

@@ -163,7 +163,7 @@ TEST_CASE("sensitivity: the program exits with status 2 on bad input and writes 
   const fs::path out = tempDir() / "never";
   const std::string exe = std::string(LG_BIN_DIR) + "/sensitivity ";
   const std::string sink = " --quiet > /dev/null 2>&1";
-  for (const std::string& args : std::vector<std::string>{"'" + bad + "'", "'" + good + "' --samples 100", "'" + good + "' --method fast",
+  for (const std::string& args : std::vector<std::string>{"'" + bad + "'", "'" + good + "' --samples 100", "'" + good + "' --samples 0", "'" + good + "' --method fast",
                                   "'" + good + "' --seed -3", "'" + good + "' --threads -1", "'" + good + "' --set strut.nope=1", "'/no/such/study.cfg'"}) {
     INFO(args);
     const int status = std::system((exe + args + " --out '" + out.string() + "'" + sink).c_str());
