@@ -23,13 +23,6 @@ namespace {
 
 constexpr double kG = 9.80665;
 
-// x(t) of m x'' + c x' + k x = f (underdamped), x(0) = x0, x'(0) = v0.
-double oscillator(double m, double k, double c, double f, double x0, double v0, double t) {
-  const double xeq = f / k, wn = std::sqrt(k / m), z = c / (2 * std::sqrt(k * m)), wd = wn * std::sqrt(1 - z * z);
-  const double a = x0 - xeq, b = (v0 + z * wn * a) / wd;
-  return xeq + std::exp(-z * wn * t) * (a * std::cos(wd * t) + b * std::sin(wd * t));
-}
-
 // One 2 kg body (principal axes x_axis/z_axis in the scene) on a bushing to the ground at its centre of mass.
 std::string bodyOnBushing(bool groundFirst, const std::string& bodyAxes, const std::string& bushingAxes, bool gravity) {
   const std::string b1 = groundFirst ? "ground" : "mass", b2 = groundFirst ? "mass" : "ground";
@@ -102,7 +95,7 @@ TEST_CASE("bushing: translation against the closed-form damped oscillator", "[bu
     for (const auto& smp : rec.samples) {
       const Vec3<double> x = Q.transpose() * (Vec3<double>(smp.y.segment<3>(0)) - r0);
       for (int k = 0; k < 3; ++k) {
-        const double xe = oscillator(mass, kt[k], ct[k], mass * gLocal[k], x0[k], v0[k], smp.t);
+        const double xe = lgtest::oscillator(mass, kt[k], ct[k], mass * gLocal[k], x0[k], v0[k], smp.t);
         err = std::max(err, std::abs(x[k] - xe));
         amp = std::max(amp, std::abs(xe));
       }
@@ -157,7 +150,7 @@ TEST_CASE("bushing: rotation against the closed-form damped oscillator", "[bushi
       const Eigen::AngleAxisd aa(Eigen::Quaterniond(q[0], q[1], q[2], q[3]) * Q0.conjugate());
       const Vec3<double> th = aa.angle() * aa.axis();
       const double a = th.dot(axis);
-      const double ae = oscillator(Iz, kr, cr, 0.0, a0, w0, smp.t);
+      const double ae = lgtest::oscillator(Iz, kr, cr, 0.0, a0, w0, smp.t);
       err = std::max(err, std::abs(a - ae));
       amp = std::max(amp, std::abs(ae));
       offAxis = std::max(offAxis, (th - a * axis).norm());

@@ -102,6 +102,13 @@ inline double positionViolation(const lg::Model<double>& m, const lg::State<doub
   return pos;
 }
 
+// x(t) of m x'' + c x' + k x = f (underdamped), x(0) = x0, x'(0) = v0: the closed form.
+inline double oscillator(double m, double k, double c, double f, double x0, double v0, double t) {
+  const double xeq = f / k, wn = std::sqrt(k / m), z = c / (2 * std::sqrt(k * m)), wd = wn * std::sqrt(1 - z * z);
+  const double a = x0 - xeq, b = (v0 + z * wn * a) / wd;
+  return xeq + std::exp(-z * wn * t) * (a * std::cos(wd * t) + b * std::sin(wd * t));
+}
+
 inline lg::EnergyReport<double> energyOf(const lg::Model<double>& m, const lg::State<double>& s) {
   lg::Workspace<double> w(m);
   lg::kinematics(m, s.y, w);

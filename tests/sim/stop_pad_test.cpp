@@ -14,13 +14,6 @@ namespace {
 
 constexpr double kG = 9.80665;
 
-// x(t) of m x'' + c x' + k x = f (underdamped), x(0) = x0, x'(0) = v0.
-double oscillator(double m, double k, double c, double f, double x0, double v0, double t) {
-  const double xeq = f / k, wn = std::sqrt(k / m), z = c / (2 * std::sqrt(k * m)), wd = wn * std::sqrt(1 - z * z);
-  const double a = x0 - xeq, b = (v0 + z * wn * a) / wd;
-  return xeq + std::exp(-z * wn * t) * (a * std::cos(wd * t) + b * std::sin(wd * t));
-}
-
 // A 3 kg body on a vertical guide, hanging from a ground point by a pad that acts beyond 0.5 m.
 std::string hangingMass(double k, double c) {
   return R"(
@@ -86,7 +79,7 @@ TEST_CASE("stop pad: a mass caught by a damped pad follows the closed-form oscil
   const double E0 = lgtest::energyOf(sc.model, s).total(), K0 = lgtest::energyOf(sc.model, s).kinetic;
   const lg::RunStatus st = lg::simulate(sc.model, s, w, T);
   REQUIRE(st.ok);
-  const double x = 1.0 - s.y[1], ref = oscillator(m, k, c, m * kG, 0.0, v0, T);
+  const double x = 1.0 - s.y[1], ref = lgtest::oscillator(m, k, c, m * kG, 0.0, v0, T);
   const auto E1 = lgtest::energyOf(sc.model, s);
   const double balance = std::abs(E1.total() - E0) / K0;
   report("pad: x(T) %.12f m vs closed form %.12f m (%.1e), %d steps, dissipated %.4f J, balance %.1e", x, ref, x - ref, st.steps,
