@@ -12,6 +12,7 @@
 #include <iostream>
 
 #include "apps/cli.hpp"
+#include "sim/io/provenance.hpp"
 #include "calib/calibration.hpp"
 #include "calib/fit.hpp"
 #include "calib/report.hpp"
@@ -25,10 +26,10 @@ int main(int argc, char** argv) {
   std::vector<std::string> sets;
   int threads = 0;
   bool plots = false, quiet = false;
-  app.add_option("calibration", calibPath, "calibration file (TOML, .cfg or .toml): scene, measurements, parameters")->required();
-  app.add_option("--out", outDir, "output directory (default: <calibration stem>-calibration in the current directory)");
+  lg::cli::addInputFile(app, "calibration", calibPath, "calibration file (TOML, .cfg or .toml): scene, measurements, parameters");
+  lg::cli::addText(app, "--out", outDir, "output directory (default: <calibration stem>-calibration in the current directory)");
   lg::cli::addThreads(app, threads, "the simulations of the measurements and of the Jacobian's columns");
-  app.add_option("--set", sets, "override a parameter of the scene, PATH=VALUE in SI units (repeatable)");
+  lg::cli::addTexts(app, "--set", sets, "override a parameter of the scene, PATH=VALUE in SI units (repeatable)");
   app.add_flag("--plots", plots, "draw the report's pictures with gnuplot (the scripts are written regardless)");
   app.add_flag("--quiet", quiet, "no progress line or summary");
   if (const int rc = lg::cli::parse(app, argc, argv); rc >= 0) return rc;

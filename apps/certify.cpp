@@ -81,10 +81,11 @@ int main(int argc, char** argv) {
   std::string scenePath, outDir = "compliance", basis;
   bool plots = false, quiet = false, nominal = false;
   int threads = 0;
-  app.add_option("scene", scenePath, "scene file (TOML) with a [certification] table")->required();
-  app.add_option("--basis", basis, "replace the table's basis: part25, cs25, part23, cs23, custom");
+  lg::cli::addInputFile(app, "scene", scenePath, "scene file (TOML) with a [certification] table");
+  lg::cli::addChoice(app, "--basis", basis, "replace the table's basis: part25, cs25, part23, cs23, custom",
+                     {"part25", "cs25", "part23", "cs23", "custom"});
   app.add_flag("--nominal", nominal, "with an [envelope]: run the nominal point only, not every corner");
-  app.add_option("--out", outDir, "output directory (default: compliance)");
+  lg::cli::addText(app, "--out", outDir, "output directory (default: compliance)");
   app.add_flag("--plots", plots, "draw one picture per case with its limits (gnuplot)");
   lg::cli::addThreads(app, threads, "the cases");
   app.add_flag("--quiet", quiet, "no table on the terminal");

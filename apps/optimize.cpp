@@ -10,6 +10,7 @@
 #include <iostream>
 
 #include "apps/cli.hpp"
+#include "sim/io/provenance.hpp"
 #include "optim/report.hpp"
 #include "optim/study.hpp"
 #include "sim/io/overrides.hpp"
@@ -22,11 +23,12 @@ int main(int argc, char** argv) {
   std::vector<std::string> sets;
   int threads = 0, maxeval = -1;
   bool quiet = false, resume = false, plots = false;
-  app.add_option("study", studyPath, "study file (TOML, .cfg or .toml)")->required();
-  app.add_option("--out", outDir, "output directory (default: <study stem>-out in the current directory)");
+  lg::cli::addInputFile(app, "study", studyPath, "study file (TOML, .cfg or .toml)");
+  lg::cli::addText(app, "--out", outDir, "output directory (default: <study stem>-out in the current directory)");
   lg::cli::addThreads(app, threads, "the cases of a design");
-  app.add_option("--maxeval", maxeval, "override [algorithm] maxeval")->check(CLI::Range(0, 100000000));
-  app.add_option("--set", sets, "override a parameter of the study's scene, PATH=VALUE in SI units (repeatable)");
+  lg::cli::addInteger(app, "--maxeval", maxeval, "override [algorithm] maxeval: evaluations at most (1 .. 1e8)", 1, 100000000,
+                      "for no limit, maxeval = 0 in the study's [algorithm], beside another stopping rule");
+  lg::cli::addTexts(app, "--set", sets, "override a parameter of the study's scene, PATH=VALUE in SI units (repeatable)");
   app.add_flag("--resume", resume, "reuse the evaluations of DIR/history.csv (same bits of the variables)");
   app.add_flag("--plots", plots, "draw the report's pictures with gnuplot (the data and scripts are written regardless)");
   app.add_flag("--quiet", quiet, "no progress line or summary");

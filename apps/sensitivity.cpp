@@ -18,6 +18,7 @@
 #include <omp.h>
 
 #include "apps/cli.hpp"
+#include "sim/io/provenance.hpp"
 #include "optim/sensitivity.hpp"
 #include "optim/sensitivity_report.hpp"
 #include "optim/study.hpp"
@@ -87,25 +88,19 @@ void printSummary(const lg::optim::Study& s, const lg::optim::SensitivityResult&
 int parseCommandLine(int argc, char** argv, bool root, Cli& c) {
   CLI::App app{"Local, Morris and Sobol sensitivities of a gear study (see README, \"sensitivity\")"};
   lg::cli::addVersion(app, "sensitivity");
-  app.add_option("study", c.study, "study file (TOML, .cfg or .toml): variables, ranges, cases, [sensitivity]")->required();
-  app.add_option("--out", c.out, "output directory (default: <study stem>-sensitivity in the current directory)");
+  lg::cli::addInputFile(app, "study", c.study, "study file (TOML, .cfg or .toml): variables, ranges, cases, [sensitivity]");
+  lg::cli::addText(app, "--out", c.out, "output directory (default: <study stem>-sensitivity in the current directory)");
   lg::cli::addThreads(app, c.threads, "the designs, per process (0: the cores this process may use)");
-  app.add_option("--method", c.method, "local, morris, sobol or all (default: [sensitivity] methods, else all)");
-  app.add_option("--samples", c.samples, "Sobol base sample N, a power of two (default: [sensitivity] samples)");
-  app.add_option("--seed", c.seed, "seed of the Sobol shift, the Morris trajectories and the bootstraps")
-      ->check(CLI::Range(0LL, 9223372036854775807LL));
-  app.add_option("--set", c.sets, "override a parameter of the study's scene, PATH=VALUE in SI units (repeatable)");
+  lg::cli::addChoice(app, "--method", c.method, "local, morris, sobol or all (default: [sensitivity] methods, else all)",
+                     {"local", "morris", "sobol", "all"});
+  lg::cli::addInteger(app, "--samples", c.samples, "Sobol base sample N, a power of two in [8, 2^20] (default: [sensitivity] samples)",
+                      8, 1 << 20, "a power of two");
+  lg::cli::addInteger(app, "--seed", c.seed, "seed of the Sobol shift, the Morris trajectories and the bootstraps", 0,
+                      9223372036854775807LL);
+  lg::cli::addTexts(app, "--set", c.sets, "override a parameter of the study's scene, PATH=VALUE in SI units (repeatable)");
   app.add_flag("--plots", c.plots, "draw the report's pictures with gnuplot (the data and scripts are written regardless)");
   app.add_flag("--quiet", c.quiet, "no progress line or summary");
-  if (root) return lg::cli::parse(app, argc, argv);
-  try {  // the other ranks parse silently: rank 0 says what is wrong
-    app.parse(argc, argv);
-    return -1;
-  } catch (const CLI::Success&) {
-    return lg::cli::kOk;
-  } catch (const CLI::ParseError&) {
-    return lg::cli::kUsage;
-  }
+  return lg::cli::parse(app, argc, argv, root);  // the other ranks parse silently: rank 0 says what is wrong
 }
 
 // Writes the outputs and prints the summary (rank 0); returns the exit status.
@@ -171,7 +166,7 @@ int main(int argc, char** argv) {
     study = lg::optim::loadStudy(c.study, overrides);
     settings = study.sensitivity;
     applyCli(c, settings);
-    lg::optim::checkSensitivity(study, settings);
+    lg::optim::checkSensitivity(study, settings, c.samples != kNotGiven ? "--samples" : "");
   } catch (const lg::InputError& e) {
     if (root) std::cerr << "error: " << e.what() << "\n";
     return lg::cli::kUsage;

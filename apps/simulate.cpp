@@ -18,6 +18,7 @@
 #include <mutex>
 
 #include "apps/cli.hpp"
+#include "sim/io/provenance.hpp"
 #include "sim/accuracy.hpp"
 #include "sim/io/files.hpp"
 #include "sim/io/overrides.hpp"
@@ -62,6 +63,7 @@ lg::Scene loadInputs(const Options& o, const CLI::App& app, std::vector<lg::Drop
     throw lg::InputError("command line", 0, "--integrator", "value '" + o.integrator + "' must be one of " + lg::integratorNames());
   if (app.count("--rtol")) {
     positive("--rtol", o.rtol);
+    if (!(o.rtol < 1)) throw lg::InputError("command line", 0, "--rtol", "value " + lg::fmt(o.rtol) + " must be < 1 (a relative tolerance)");
     cfg.rtol = o.rtol;
     cfg.atol = o.rtol * 1e-2;
   }
@@ -86,11 +88,16 @@ lg::Scene loadInputs(const Options& o, const CLI::App& app, std::vector<lg::Drop
     throw lg::InputError("command line", 0, "--gradient", "--work-precision runs no gradient: give one or the other");
   // The cases: a sink-speed / lift matrix, the named scene cases, or every case of the scene.
   const bool matrix = !o.sinkSpeeds.empty() || !o.liftRatios.empty();
+  if (!matrix && app.count("--duration"))
+    throw lg::InputError("command line", 0, "--duration", "sets the duration of a matrix's cases: give --sink-speeds too");
   if (matrix) {
     if (!o.cases.empty())
       throw lg::InputError("command line", 0, "--case", "give either --case or a matrix (--sink-speeds, --lift-ratios)");
     if (o.sinkSpeeds.empty()) throw lg::InputError("command line", 0, "--sink-speeds", "a matrix needs its sink speeds");
     positive("--duration", o.duration);
+    if (!(o.duration <= lg::TomlReader::kMaxDuration))
+      throw lg::InputError("command line", 0, "--duration", "value " + lg::fmt(o.duration) + " s must be <= " +
+                                                              lg::fmt(lg::TomlReader::kMaxDuration) + " s (a drop test lasts seconds)");
     const auto V = lg::parseValueList(o.sinkSpeeds, "--sink-speeds", true);
     for (double v : V)
       if (const std::string rule = lg::sinkSpeedRule(v); !rule.empty())
@@ -114,7 +121,7 @@ lg::Scene loadInputs(const Options& o, const CLI::App& app, std::vector<lg::Drop
       if (it == scene.cases.end()) {
         std::string known;
         for (const auto& c : scene.cases) known += (known.empty() ? "" : ", ") + c.name;
-        throw lg::InputError(o.scene, 0, "case", "no case named '" + n + "' (cases: " + known + ")");
+        throw lg::InputError("command line", 0, "--case", "value '" + n + "' is no case of the scene " + o.scene + " (cases: " + known + ")");
       }
       cases.push_back(*it);
     }
@@ -179,12 +186,14 @@ std::vector<lg::Parameter> gradientParameters(const Options& o, const lg::Scene&
     while (start <= list.size()) {
       const auto comma = list.find(',', start);
       const std::string path = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+      if (path.empty())
+        throw lg::InputError("command line", 0, "--gradient",
+                             "value '" + list + "' has an empty path: PATH[,PATH...], e.g. strut.f1,tyre.K");
       try {
         out.push_back(lg::resolveParameter(scene, path, "command line"));
         lg::checkGradientParameter(out.back(), "command line");
       } catch (const lg::InputError& e) {
-        throw lg::InputError("command line", 0, "--gradient",
-                             "'" + path + "': " + std::string(e.what()).substr(std::string(e.what()).find(": ", 14) + 2));
+        throw lg::InputError("command line", 0, "--gradient", "'" + path + "': " + e.rule());
       }
       if (comma == std::string::npos) break;
       start = comma + 1;
@@ -305,26 +314,28 @@ int workPrecision(const Options& o, const lg::Scene& scene, const std::vector<lg
 
 // The command line's options into o.
 void addOptions(CLI::App& app, Options& o) {
-  app.add_option("scene", o.scene, "scene file (TOML)")->required();
-  app.add_option("--case", o.cases, "case to run (repeatable; default: every case of the scene)");
-  app.add_option("--out", o.outDir, "output directory (default: out)");
+  namespace cli = lg::cli;
+  cli::addInputFile(app, "scene", o.scene, "scene file (TOML)");
+  cli::addTexts(app, "--case", o.cases, "case to run (repeatable; default: every case of the scene)");
+  cli::addText(app, "--out", o.outDir, "output directory (default: out)");
   app.add_flag("--plots", o.plots, "draw one figure per case with gnuplot");
-  lg::cli::addThreads(app, o.threads, "the cases");
+  cli::addThreads(app, o.threads, "the cases");
   app.add_flag("--quiet", o.quiet, "no progress and no table on the terminal");
-  app.add_option("--integrator", o.integrator, "override the scene's integrator: dopri5, ros34pw2, ros2, rk4, euler");
-  app.add_option("--rtol", o.rtol, "override the relative tolerance of the adaptive integrators (atol = rtol/100 unless --atol)");
-  app.add_option("--atol", o.atol, "override the absolute tolerance of the adaptive integrators");
-  app.add_option("--step", o.step, "override the step of the fixed-step integrators (first trial step of the adaptive ones) [s]");
-  app.add_option("--set", o.sets, "override a scene parameter, PATH=VALUE in SI units (repeatable), e.g. strut.f1=8e-5");
-  app.add_option("--sink-speeds", o.sinkSpeeds, "run a matrix instead of the scene's cases: sink speeds [m/s], a,b,c or start:step:stop");
-  app.add_option("--lift-ratios", o.liftRatios, "the matrix's lift ratios, a,b,c or start:step:stop (default 0)");
-  app.add_option("--duration", o.duration, "the matrix cases' duration [s] (default 0.8)");
-  app.add_option("--output-interval", o.outputInterval, "CSV rows every DT seconds from the dense output (default: one per step) [s]");
-  app.add_option("--gradient", o.gradient, "derivatives of every metric with respect to these parameters, PATH[,PATH...] "
-                                           "(exact, forward mode): into summary.json and gradient.csv");
-  app.add_option("--accuracy", o.accuracy,
-                 "relative accuracy of the reported metrics (1e-5 .. 1e-1): chooses integrator and tolerances");
-  app.add_option("--corner", o.corners, "run each case at this point of the scene's [envelope] (repeatable; \"all\": "
+  cli::addChoice(app, "--integrator", o.integrator, "override the scene's integrator: " + lg::integratorNames(),
+                 lg::integratorList());
+  cli::addNumber(app, "--rtol", o.rtol, "override the relative tolerance of the adaptive integrators (atol = rtol/100 unless --atol)", true);
+  cli::addNumber(app, "--atol", o.atol, "override the absolute tolerance of the adaptive integrators", true);
+  cli::addNumber(app, "--step", o.step, "override the step of the fixed-step integrators (first trial step of the adaptive ones) [s]", true, "s");
+  cli::addTexts(app, "--set", o.sets, "override a scene parameter, PATH=VALUE in SI units (repeatable), e.g. strut.f1=8e-5");
+  cli::addText(app, "--sink-speeds", o.sinkSpeeds, "run a matrix instead of the scene's cases: sink speeds [m/s], a,b,c or start:step:stop");
+  cli::addText(app, "--lift-ratios", o.liftRatios, "the matrix's lift ratios, a,b,c or start:step:stop (default 0)");
+  cli::addNumber(app, "--duration", o.duration, "the matrix cases' duration [s] (default 0.8)", true, "s");
+  cli::addNumber(app, "--output-interval", o.outputInterval, "CSV rows every DT seconds from the dense output (default: one per step) [s]", true, "s");
+  cli::addTexts(app, "--gradient", o.gradient, "derivatives of every metric with respect to these parameters, PATH[,PATH...] "
+                                            "(exact, forward mode): into summary.json and gradient.csv");
+  cli::addNumber(app, "--accuracy", o.accuracy,
+                 "relative accuracy of the reported metrics (1e-5 .. 1e-1): chooses integrator and tolerances", true);
+  cli::addTexts(app, "--corner", o.corners, "run each case at this point of the scene's [envelope] (repeatable; \"all\": "
                                        "the nominal point and every corner), named <case>@<corner>");
   app.add_flag("--work-precision", o.workPrecision,
                "run every integrator over a range of tolerances against the scene's own tight run; write the table "

@@ -76,8 +76,8 @@ int main(int argc, char** argv) {
   lg::cli::addVersion(app, "accuracy_sweep");
   int threads = 0, worst = 20;
   std::vector<double> accuracies{1e-2, 1e-3, 1e-4};
-  app.add_option("--threads", threads, "threads over the cases (default 0: all cores)")->check(CLI::Range(0, 4096));
-  app.add_option("--worst", worst, "runs listed, worst first (default 20)")->check(CLI::Range(1, 100000));
+  lg::cli::addThreads(app, threads, "the cases");
+  lg::cli::addInteger(app, "--worst", worst, "runs listed, worst first (default 20)", 1, 100000);
   std::vector<std::string> only;
   app.add_option("--gear", only, "only this scene (repeatable; default: every gear)");
   app.add_option("--accuracies", accuracies, "accuracies to sweep (default 1e-2,1e-3,1e-4)")

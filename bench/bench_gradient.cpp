@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
                "(run from the project root)"};
   lg::cli::addVersion(app, "bench_gradient");
   int repeat = 3;
-  app.add_option("--repeat", repeat, "timed repetitions (median; default 3)")->check(CLI::Range(1, 1000));
+  lg::cli::addInteger(app, "--repeat", repeat, "timed repetitions (median; default 3)", 1, 1000);
   if (const int rc = lg::cli::parse(app, argc, argv); rc >= 0) return rc;
   lg::optim::Study s;
   try {

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <set>
 
-#include "calib/measurement_csv.hpp"
+#include "sim/io/csv_table.hpp"
 #include "optim/study.hpp"  // applySolverTable
 #include "optim/units.hpp"
 #include "sim/io/files.hpp"
@@ -120,7 +120,7 @@ void parseCase(const TomlReader& r, const Calibration& c, Measurement& m) {
     if (!(m.dropCase.sinkSpeed > 0)) r.fail("sink_speed", "value " + fmt(m.dropCase.sinkSpeed) + " must be > 0 [m/s]");
   }
   m.dropCase.liftRatio = r.nonNegative("lift_ratio", m.dropCase.liftRatio);
-  m.dropCase.duration = r.positive("duration", m.dropCase.duration);
+  m.dropCase.duration = r.duration("duration", m.dropCase.duration);
   if (m.dropCase.liftRatio > 0 && c.scene.roles.lifts.empty()) r.fail("lift_ratio", "the scene declares no lift element");
   if (const toml::node* mn = r.get("masses")) {
     const toml::table* mt = mn->as_table();
@@ -209,7 +209,9 @@ void parseWeights(const TomlReader& r, const Calibration& c, Measurement& m) {
 // The CSV: its times, its channels, its length against the case's. The mistakes in the calibration file
 // (a column the CSV lacks) name it, those in the rows name the CSV.
 void readCsv(const TomlReader& cr, const std::string& timeColumn, Measurement& m) {
-  const MeasurementCsv csv(m.file);
+  std::string example = timeColumn;
+  for (const auto& ch : m.channels) example += "," + ch.csvColumn;
+  const CsvTable csv(m.file, "measurement file", example, " (measurement '" + m.name + "' of " + cr.file() + ")");
   const int tk = csv.column(timeColumn);
   if (tk < 0)
     cr.fail("t", "column '" + timeColumn + "' is not in the header of '" + m.file + "' (its columns: " + csv.headerList() + ")");
@@ -221,7 +223,8 @@ void readCsv(const TomlReader& cr, const std::string& timeColumn, Measurement& m
                            csv.headerList() + ")");
     ks.push_back(k);
   }
-  if (csv.rows() < 2) throw InputError(m.file, csv.headerLine(), "", "a measurement needs at least 2 rows of samples");
+  if (csv.rows() < 2)
+    csv.fail(-1, "header", "the file has " + std::to_string(csv.rows()) + " rows of samples: a measurement needs at least 2");
   m.t = csv.numbers(tk);
   for (std::size_t i = 1; i < m.t.size(); ++i)
     if (!(m.t[i] > m.t[i - 1]))
@@ -287,10 +290,8 @@ void parseMeasurements(const toml::table& doc, const std::string& file, const st
     Measurement m;
     m.line = r.line();
     m.file = resolve(baseDir, r.string("file"));
-    std::error_code ec;
-    if (!fs::is_regular_file(m.file, ec))
-      r.fail("file", "measurement file '" + m.file + "' " + (fs::exists(m.file, ec) ? "is not a regular file" : "does not exist") +
-                         " (the path is relative to the calibration file)");
+    if (const std::string why = fileProblem(m.file); !why.empty())
+      r.fail("file", "cannot read the measurement file '" + m.file + "': " + why + " (the path is relative to the calibration file)");
     const std::string stem = safeFileStem(fs::path(m.file).stem().string());
     if (!r.has("name") && !isName(stem))
       r.fail("file", "the file's stem '" + stem + "' cannot name the measurement (" + nameRule() + "): give name = \"...\"");
@@ -354,9 +355,8 @@ Calibration parseCalibration(const std::string& text, const std::string& file, c
   (void)top.string("description", "");
   {
     const std::string p = resolve(baseDir, top.string("scene"));
-    std::error_code ec;
-    if (!fs::is_regular_file(p, ec))
-      top.fail("scene", "scene file '" + p + "' does not exist (the path is relative to the calibration file)");
+    if (const std::string why = fileProblem(p); !why.empty())
+      top.fail("scene", "cannot read the scene file '" + p + "': " + why + " (the path is relative to the calibration file)");
     c.sceneFile = p;
     c.sceneDir = fs::path(p).parent_path().lexically_normal().string();
     if (c.sceneDir.empty()) c.sceneDir = ".";
@@ -385,14 +385,20 @@ Calibration parseCalibration(const std::string& text, const std::string& file, c
     ps.push_back(p.parameter);
     x0.push_back(p.initial);
   }
-  if (const auto why = applyParameters(start, ps, x0))
-    throw InputError(file, c.parameters[0].line, "parameter", "the scene rejects the initial values: " + *why);
+  if (const auto why = applyParameters(start, ps, x0)) {
+    // Named at the parameter at fault: the first the scene rejects on its own, else all of them together.
+    for (std::size_t k = 0; k < ps.size(); ++k) {
+      Scene one = c.scene;
+      if (const auto alone = applyParameters(one, {ps[k]}, {x0[k]}))
+        throw InputError(file, c.parameters[k].line, "parameter[" + std::to_string(k) + "]",
+                         "the scene rejects " + c.parameters[k].parameter.path + " = " + fmt(x0[k]) + ": " + *alone);
+    }
+    throw InputError(file, c.parameters[0].line, "parameter", "the scene rejects the initial values together: " + *why);
+  }
   return c;
 }
 
 Calibration loadCalibration(const std::string& path, const std::vector<ParameterOverride>& sets) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError(path, 0, "", "calibration file does not exist");
   const std::string text = readText(path, "calibration file");
   std::string base = fs::path(path).parent_path().string();
   if (base.empty()) base = ".";

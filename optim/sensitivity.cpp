@@ -103,7 +103,30 @@ std::string derivativeSource(const SensitivitySettings& g) {
   return "central differences, relative step h = " + shortNum(g.step);
 }
 
-void checkSensitivity(const Study& s, const SensitivitySettings& g) {
+double sensitivityDrops(const Study& s, const SensitivitySettings& g) {
+  const double D = static_cast<double>(s.variables.size());
+  const double designs = (g.local ? (g.exactDerivatives ? 1 + D : 1 + 2 * D) : 0) +
+                         (g.morris ? g.trajectories * (D + 1) : 0) + (g.sobol ? g.samples * (D + 2) : 0);
+  return designs * static_cast<double>(std::max<std::size_t>(1, g.cases.size()));
+}
+
+void checkSensitivity(const Study& s, const SensitivitySettings& g, const std::string& samplesFlag) {
+  // The size first: a study too large to hold is refused before anything is allocated.
+  auto fail = [&](const std::string& key, const std::string& rule) {
+    if (key == "samples" && !samplesFlag.empty()) throw InputError("command line", 0, samplesFlag, rule);
+    throw InputError(s.file, g.line, "sensitivity." + key, rule);
+  };
+  if (const double drops = sensitivityDrops(s, g); drops > kMaxSensitivityDrops)
+    fail(g.sobol ? "samples" : "trajectories",
+         "the methods ask for " + fmt(drops) + " drops (" + std::to_string(s.variables.size()) + " variables, " +
+             std::to_string(std::max<std::size_t>(1, g.cases.size())) + " cases" +
+             (g.sobol ? ", Sobol N = " + std::to_string(g.samples) : "") + (g.morris ? ", Morris r = " + std::to_string(g.trajectories) : "") +
+             "), more than " + fmt(kMaxSensitivityDrops) + ": lower N or r, or run the methods apart");
+  if (g.sobol && static_cast<double>(g.resamples) * g.samples > kMaxBootstrapWork)
+    fail(samplesFlag.empty() ? "resamples" : "samples",
+         "the bootstrap would redraw N = " + std::to_string(g.samples) + " samples " + std::to_string(g.resamples) +
+             " times (" + fmt(static_cast<double>(g.resamples) * g.samples) + " draws), more than " + fmt(kMaxBootstrapWork) +
+             ": lower resamples or N");
   if (!g.local) return;
   for (std::size_t i = 0; i < s.variables.size(); ++i)
     if (s.variables[i].initial == 0)

@@ -45,9 +45,16 @@ std::vector<SensitivityOutput> sensitivityOutputs(const Study& s, const Sensitiv
 // The derivative source printed in every local report.
 std::string derivativeSource(const SensitivitySettings& g);
 
-// Checks what the study file's parser cannot know (the methods may come from the command line):
-// local sensitivities need every variable's baseline nonzero. Throws lg::InputError.
-void checkSensitivity(const Study& s, const SensitivitySettings& g);
+// Checks what the study file's parser cannot know (the methods and the sample size may come from the
+// command line): local sensitivities need every variable's baseline nonzero; the drops of every
+// method together at most kMaxSensitivityDrops, the bootstrap's work (resamples x N) at most
+// kMaxBootstrapWork. 'samplesFlag' ("--samples", or "" for the file's key) names the size's source.
+// Throws lg::InputError.
+constexpr double kMaxSensitivityDrops = 1e7, kMaxBootstrapWork = 1e9;
+void checkSensitivity(const Study& s, const SensitivitySettings& g, const std::string& samplesFlag = "");
+// The drops the settings ask for: local 1 + D (exact) or 1 + 2D (central), Morris r (D + 1), Sobol
+// N (D + 2), each over the chosen cases.
+double sensitivityDrops(const Study& s, const SensitivitySettings& g);
 
 // A run that failed somewhere: where and why.
 struct RunFailure {

@@ -104,7 +104,7 @@ std::string metricNeeds(const Scene& sc, const std::string& metric) {
                                     const std::string& file, int line, const Study& s) {
   std::string key = e.key().rfind(name + ".", 0) == 0 ? e.key().substr(name.size() + 1) : e.key();
   key = key.substr(0, key.find_first_of(".["));
-  const std::string rule = std::string(e.what()).substr(InputError::format(e.file(), e.line(), e.key(), "").size());
+  const std::string& rule = e.rule();
   if (t.contains(key)) throw InputError(file, TomlReader(t, file, "").lineOf(key), e.key(), rule);
   if (const toml::table* st = s.scene.doc[name].as_table(); st && st->contains(key))
     throw InputError(s.sceneFile, TomlReader(*st, s.sceneFile, "").lineOf(key), e.key(), rule);
@@ -269,7 +269,7 @@ void parseCases(const toml::table& doc, const std::string& file, Study& s) {
     }
     c.dropCase.liftRatio = r.nonNegative("lift_ratio", c.dropCase.liftRatio);
     if (const std::string rule = liftRatioRule(c.dropCase.liftRatio); !rule.empty()) r.fail("lift_ratio", rule);
-    c.dropCase.duration = r.positive("duration", c.dropCase.duration);
+    c.dropCase.duration = r.duration("duration", c.dropCase.duration);
     if (c.dropCase.liftRatio > 0 && s.scene.roles.lifts.empty())
       r.fail("lift_ratio", "the scene declares no lift element");
     r.masses("masses", s.scene.model, c.dropCase.masses);
@@ -374,6 +374,13 @@ void parseConstraints(const toml::table& doc, const std::string& file, Study& s)
       c.metric = metric;
       c.upper = std::string(key) == "max";
       c.bound = r.number(key);
+      // A bound the metric can never meet is a mistake of sign or of metric, not a study to run.
+      const double least = design ? 0.0 : info->least, most = design ? MetricInfo::kInf : info->most;
+      if (c.upper && c.bound < least)
+        r.fail(key, "value " + fmt(c.bound) + " " + (design ? "m" : info->unit) + " can never hold: " + metric + " is >= " +
+                        fmt(least) + (metric == "stroke" || metric == "tyre_deflection" ? " (a margin is " + std::string(metric == "stroke" ? "stroke_margin" : "tyre_margin") + ", with min = ...)" : ""));
+      if (!c.upper && c.bound > most)
+        r.fail(key, "value " + fmt(c.bound) + " can never hold: " + metric + " is <= " + fmt(most));
       c.scale = std::max(std::abs(c.bound), unitScale);
       c.cases = idx;
       c.source = "study";
@@ -644,9 +651,8 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
     const std::string rel = top.string("scene");
     std::filesystem::path p(rel);
     if (p.is_relative()) p = std::filesystem::path(baseDir) / p;
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(p, ec))
-      top.fail("scene", "scene file '" + p.string() + "' does not exist (the path is relative to the study file)");
+    if (const std::string why = fileProblem(p.string()); !why.empty())
+      top.fail("scene", "cannot read the scene file '" + p.string() + "': " + why + " (the path is relative to the study file)");
     s.sceneFile = p.lexically_normal().string();
     s.sceneDir = p.parent_path().lexically_normal().string();
     if (s.sceneDir.empty()) s.sceneDir = ".";
@@ -722,8 +728,6 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
 }
 
 Study loadStudy(const std::string& path, const std::vector<ParameterOverride>& sets, bool nominal) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, 0, "", "study file does not exist");
   const std::string text = readText(path, "study file");
   std::string base = std::filesystem::path(path).parent_path().string();
   if (base.empty()) base = ".";

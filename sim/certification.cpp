@@ -97,14 +97,15 @@ Certification parseCertification(const toml::table& t, const std::string& file, 
   const bool p23 = c.part23();
   const bool custom = c.basis == CertBasis::Custom;
   c.landingMass = custom && !r.has("landing_mass") ? 0.0 : mass("landing_mass", 0.0);
-  c.takeoffMass = (c.basis == CertBasis::Part25 || c.basis == CertBasis::CS25) ? mass("takeoff_mass", c.landingMass)
-                                                                               : r.number("takeoff_mass", c.landingMass);
+  c.takeoffMass = r.has("takeoff_mass") ? mass("takeoff_mass", 0.0) : c.landingMass;  // the same rule on every basis
   if (c.takeoffMass < c.landingMass && (c.basis == CertBasis::Part25 || c.basis == CertBasis::CS25))
     r.fail("takeoff_mass", "value " + fmt(c.takeoffMass) + " kg must not be below landing_mass " + fmt(c.landingMass) + " kg");
-  const double maxL = p23 ? 2.0 / 3.0 : 1.0;
-  c.liftRatio = r.nonNegative("lift_ratio", maxL);
-  if (c.liftRatio > maxL + 1e-12)
-    r.fail("lift_ratio", "value " + fmt(c.liftRatio) + " must be <= " + (p23 ? "2/3 (Part 23 limit drop)" : "1"));
+  // Part 23 (23.725, the effective weight): a lift "not more than 0.667" times the weight; the default is 2/3 itself, and the
+  // bound is the rule's written 0.667.
+  const double maxL = p23 ? 0.667 : 1.0;
+  c.liftRatio = r.nonNegative("lift_ratio", p23 ? 2.0 / 3.0 : 1.0);
+  if (c.liftRatio > maxL)
+    r.fail("lift_ratio", "value " + fmt(c.liftRatio) + " must be <= " + (p23 ? "0.667 (Part 23 limit drop: 23.725 takes L \"not more than 0.667\")" : "1"));
   c.reserveLiftRatio = r.nonNegative("reserve_lift_ratio", 1.0);
   if (c.reserveLiftRatio > 1) r.fail("reserve_lift_ratio", "value " + fmt(c.reserveLiftRatio) + " must be <= 1");
   if ((c.liftRatio > 0 || c.reserveLiftRatio > 0) && scene.roles.lifts.empty())
@@ -118,13 +119,15 @@ Certification parseCertification(const toml::table& t, const std::string& file, 
   c.strokeMargin = r.nonNegative("stroke_margin", 0.0);
   for (size_t k = 0; k < scene.roles.struts.size(); ++k) {
     const double S = scene.roles.strokeLimits[k];
-    if (std::isfinite(S) && !(c.strokeMargin < S))
+    // S comes out of the stops' distances (0.60 - 0.44 = 0.15999999999999998): a margin equal to the
+    // stroke as written is the whole stroke, and refused, whichever way the subtraction rounded.
+    if (std::isfinite(S) && !(c.strokeMargin < S - 1e-12 * std::max(1.0, S)))
       r.fail("stroke_margin", "value " + fmt(c.strokeMargin) + " m must be smaller than the stroke S_max = " + fmt(S) +
                                   " m of strut '" + scene.model.forces[scene.roles.struts[k]].name + "'");
   }
   c.tyreLimit = r.has("tyre_limit") ? r.positive("tyre_limit") : 0.0;
   if (scene.roles.tyres.empty() && r.has("tyre_limit")) r.fail("tyre_limit", "the scene has no tyre");
-  c.duration = r.positive("duration", 0.8);
+  c.duration = r.duration("duration", 0.8);
   // The forward speed of the drops: declared, or the scene's own cases' (the spin-up they model).
   bool spinUp = false;
   for (int f : scene.roles.tyres) spinUp = spinUp || std::get<Tyre<double>>(scene.model.forces[f].type).longitudinal;
@@ -162,7 +165,7 @@ Certification parseCertification(const toml::table& t, const std::string& file, 
       if (cc.liftRatio > 0 && scene.roles.lifts.empty()) cr.fail("lift_ratio", "the scene declares no lift element");
       cc.mass = cr.positive("mass");
       if (!(cc.mass > rest)) cr.fail("mass", "value " + fmt(cc.mass) + " kg must exceed the gear's other bodies, " + fmt(rest) + " kg");
-      cc.duration = cr.positive("duration", c.duration);
+      cc.duration = cr.duration("duration", c.duration);
       cc.forwardSpeed = c.forwardSpeed;
       cc.rule = "custom case";
       c.cases.push_back(cc);

@@ -2,6 +2,8 @@
 // matrix and the reports: one place that says what "stroke_margin" means and in which unit.
 #pragma once
 
+#include <limits>
+
 #include <string>
 #include <vector>
 
@@ -14,6 +16,9 @@ struct MetricInfo {
   const char* unit;         // SI unit for headers: "m", "N", "-", "J", "m/s"
   const char* description;  // for people
   double scale;             // [unit] a typical size, to scale a constraint whose bound is 0
+  double least = 0;         // [unit] the smallest value the metric can take (-inf: no bound): a bound
+  double most = kInf;       // [unit] ... and the largest; "max" below 'least' can never hold
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
 };
 
 // Every metric a study constraint or the certification matrix can name, in a fixed order.

@@ -12,11 +12,17 @@ namespace lg {
 // (TomlReader::name); this keeps any other text from becoming a path outside the output directory.
 std::string safeFileStem(const std::string& name);
 
-// Writes 'text' to 'path' atomically; throws std::runtime_error naming the path and the cause.
+// Writes 'text' to 'path' atomically; throws std::runtime_error naming the path and the cause. The
+// text goes to an unnamed file of the same folder (O_TMPFILE), named "<path>.tmp<pid>" only once whole
+// and synced, then renamed over 'path'; where unnamed files are not available, straight to the named one.
 void writeFileAtomic(const std::string& path, const std::string& text);
 
-// Creates the output directory (and its parents) and proves it takes a file, before any work is done;
-// throws std::runtime_error naming the directory and the cause.
+// Removes the temporaries that killed runs of the programs left in 'dir' ("<file>.tmp<pid>",
+// ".write-test<pid>" of a process that no longer exists).
+void removeStaleTemporaries(const std::string& dir);
+
+// Creates the output directory (and its parents), removes its stale temporaries and proves it takes a
+// file, before any work is done; throws std::runtime_error naming the directory and the cause.
 void prepareOutputDir(const std::string& dir);
 
 // A log written line by line as it grows (a study's history.csv): each line goes to the file in one

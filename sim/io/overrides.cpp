@@ -35,8 +35,13 @@ ParameterOverride parseOverride(const std::string& text) {
   ParameterOverride o;
   o.path = trim(text.substr(0, eq));
   const std::string value = trim(text.substr(eq + 1));
+  if (o.path.empty()) throw InputError(kWhere, 0, "--set", "value '" + text + "' has no PATH before '=': PATH=VALUE, e.g. strut.f1=8e-5");
+  if (o.path.rfind("solver.", 0) == 0 || o.path == "solver")
+    throw InputError(kWhere, 0, "--set " + o.path,
+                     "solver settings are not parameters of the scene: give them with --integrator, --rtol, --atol, "
+                     "--step or --accuracy (simulate), or in the study's [solver] table");
   if (!toNumber(value, o.value))
-    throw InputError(kWhere, 0, "--set " + o.path, "value '" + value + "' must be a finite number");
+    throw InputError(kWhere, 0, "--set " + o.path, "value '" + value + "' must be a finite number (in the parameter's SI unit)");
   return o;
 }
 
@@ -51,13 +56,19 @@ Scene applyOverrides(const Scene& scene, const std::vector<ParameterOverride>& s
       setParameter(doc, o.path, o.value, kWhere);
     } catch (const InputError& e) {
       throw InputError(kWhere, 0, "--set " + o.path,
-                       "'" + o.path + "' is not a numeric parameter of the scene " + scene.file + " (" +
-                           std::string(e.what()).substr(std::string(kWhere).size() + 2) + ")");
+                       "'" + o.path + "' is not a numeric parameter of the scene " + scene.file + " (" + e.rule() + ")");
     }
   }
   std::string dir = std::filesystem::path(scene.file).parent_path().string();
   if (dir.empty()) dir = ".";
-  return buildScene(doc, scene.file, dir);
+  try {
+    return buildScene(doc, scene.file, dir);
+  } catch (const InputError& e) {  // the fault is the command line's: the scene was valid without it
+    std::string given;
+    for (const auto& o : sets) given += (given.empty() ? "" : " ") + o.path + "=" + fmt(o.value);
+    throw InputError(kWhere, 0, "--set " + (sets.size() == 1 ? sets[0].path : std::string("...")),
+                     "the scene is invalid with " + given + ": " + e.what());
+  }
 }
 
 std::vector<double> parseValueList(const std::string& text, const std::string& flag, bool positive) {

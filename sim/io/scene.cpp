@@ -19,20 +19,33 @@
 
 namespace lg {
 
+namespace {
+// The integrators by name: the one list behind the lookup, the names and the messages.
+constexpr std::pair<const char*, IntegratorKind> kIntegratorNames[] = {{"dopri5", IntegratorKind::DormandPrince},
+                                                                       {"ros34pw2", IntegratorKind::Ros34pw2},
+                                                                       {"ros2", IntegratorKind::Ros2},
+                                                                       {"rk4", IntegratorKind::RK4},
+                                                                       {"euler", IntegratorKind::SemiImplicitEuler}};
+}  // namespace
+
 bool integratorFromName(const std::string& name, IntegratorKind& kind) {
-  static const std::pair<const char*, IntegratorKind> table[] = {{"dopri5", IntegratorKind::DormandPrince},
-                                                                 {"ros34pw2", IntegratorKind::Ros34pw2},
-                                                                 {"ros2", IntegratorKind::Ros2},
-                                                                 {"rk4", IntegratorKind::RK4},
-                                                                 {"euler", IntegratorKind::SemiImplicitEuler}};
-  for (const auto& [n, k] : table)
+  for (const auto& [n, k] : kIntegratorNames)
     if (name == n) {
       kind = k;
       return true;
     }
   return false;
 }
-std::string integratorNames() { return "\"dopri5\", \"ros34pw2\", \"ros2\", \"rk4\", \"euler\""; }
+std::vector<std::string> integratorList() {
+  std::vector<std::string> out;
+  for (const auto& [n, k] : kIntegratorNames) out.push_back(n);
+  return out;
+}
+std::string integratorNames() {
+  std::string out;
+  for (const auto& n : integratorList()) out += (out.empty() ? "\"" : ", \"") + n + "\"";
+  return out;
+}
 
 namespace {
 

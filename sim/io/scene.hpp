@@ -25,21 +25,29 @@ struct Certification;  // sim/certification.hpp
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& file, int line, const std::string& key, const std::string& rule)
-      : std::runtime_error(format(file, line, key, rule)), file_(file), line_(line), key_(key) {}
+      : std::runtime_error(format(file, line, key, rule)), file_(file), line_(line), key_(cut(key, kKeyChars)),
+        rule_(cut(rule, kRuleChars)) {}
   const std::string& file() const { return file_; }
   int line() const { return line_; }
   const std::string& key() const { return key_; }
+  const std::string& rule() const { return rule_; }  // the words after "key '...': "
+  // "file:line: key 'k': rule"; a key or a rule that quotes a huge input is cut (an error is one
+  // readable line, never the input echoed).
   static std::string format(const std::string& file, int line, const std::string& key, const std::string& rule) {
-    std::string s = file;
+    std::string s = cut(file, kRuleChars);
     if (line > 0) s += ":" + std::to_string(line);
-    if (!key.empty()) s += ": key '" + key + "'";
-    return s + ": " + rule;
+    if (!key.empty()) s += ": key '" + cut(key, kKeyChars) + "'";
+    return s + ": " + cut(rule, kRuleChars);
+  }
+  static constexpr size_t kKeyChars = 80, kRuleChars = 480;
+  static std::string cut(const std::string& s, size_t n) {
+    return s.size() <= n ? s : s.substr(0, n - 20) + "... (" + std::to_string(s.size()) + " characters)";
   }
 
  private:
   std::string file_;
   int line_;
-  std::string key_;
+  std::string key_, rule_;
 };
 
 // A named drop test: every body starts with velocity (0, -sinkSpeed, 0) along -gravity, no rotation, at
@@ -110,6 +118,7 @@ inline const EnvelopePoint<double>& casePoint(const Scene& scene, const DropCase
 // the name is none of them. integratorNames() lists them for messages.
 bool integratorFromName(const std::string& name, IntegratorKind& kind);
 std::string integratorNames();
+std::vector<std::string> integratorList();  // the same names, as a list
 
 // Parses a scene file; throws InputError.
 Scene loadScene(const std::string& path);

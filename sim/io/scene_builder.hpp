@@ -18,6 +18,10 @@
 #include "sim/io/scene.hpp"
 #include "sim/io/toml_reader.hpp"
 
+namespace lg {
+class CsvTable;
+}
+
 namespace lg::detail {
 
 // A body's position and orientation at t = 0 (scene axes).
@@ -27,15 +31,23 @@ struct Pose {
 };
 
 // ---- tables (sim/io/scene_tables.cpp) ----------------------------------------------------------------
-// Reads the two columns 'cx', 'cy' of a CSV table with a header through fast-cpp-csv-parser.
-void readColumns(const std::string& path, const TomlReader& r, const std::string& key, const char* cx, const char* cy,
-                 std::vector<double>& x, std::vector<double>& y);
+// Two columns of a table, from a CSV file (csv set: errors name its lines) or inline in the scene.
+struct ColumnPair {
+  std::vector<double> x, y;
+  std::shared_ptr<const CsvTable> csv;
+  const char* names[2];
+  // An error at sample 'row' (-1: the table as a whole) of column 0 or 1: at the CSV's line, or at the
+  // scene's key for an inline table.
+  [[noreturn]] void fail(const TomlReader& r, const std::string& key, long row, int column, const std::string& rule) const;
+};
+// The two columns 'cx', 'cy' of the CSV table 'path' that the scene's 'key' names.
+ColumnPair readColumns(const std::string& path, const TomlReader& r, const std::string& key, const char* cx, const char* cy);
 // A path of the scene relative to its folder.
 std::string scenePath(const TomlReader& r, const std::string& key, const std::string& baseDir);
 // A table's samples checked: at least 4, stroke increasing and uniformly spaced, every area > 0.
-std::shared_ptr<const Table1D> checkedTable(std::vector<double> x, std::vector<double> y, const std::string& source,
-                                            const TomlReader& r, const std::string& key, int firstRow);
-// Reads a two-column CSV table (header "stroke,area" or any two names) through fast-cpp-csv-parser.
+std::shared_ptr<const Table1D> checkedTable(ColumnPair t, const std::string& source, const TomlReader& r,
+                                            const std::string& key);
+// Reads a two-column CSV table "stroke,area" [m, m^2].
 std::shared_ptr<const Table1D> readTable(const std::string& path, const TomlReader& r, const std::string& key);
 // An inline table: { stroke = [...] [m], area = [...] [m^2] }.
 std::shared_ptr<const Table1D> inlineTable(const toml::table& t, const TomlReader& r, const std::string& key);

@@ -70,6 +70,7 @@ void SceneBuilder::readSolver() {
   else if (stab == "none") s.stabilization = Stabilization::None;
   else r.fail("stabilization", "value '" + stab + "' must be \"projection\", \"baumgarte\" or \"none\"");
   s.rtol = r.positive("rtol", s.rtol);
+  if (r.has("rtol") && !(s.rtol < 1)) r.fail("rtol", "value " + fmt(s.rtol) + " must be < 1 (a relative tolerance)");
   s.atol = r.positive("atol", s.atol);
   s.step = r.positive("step", s.step);
   s.maxStep = r.positive("max_step", s.maxStep);
@@ -243,7 +244,7 @@ void SceneBuilder::readCase(const toml::table& t, size_t i, std::set<std::string
                               " >= 1 it does not fall, so a drop from a height needs sink_speed > 0");
   // (default: 0.8 s after the touchdown of a rigid gear)
   const double fall = c.dropHeight > 0 ? fallTime(c, sc.gravity) : 0.0;
-  c.duration = r.positive("duration", 0.8 + fall);
+  c.duration = r.duration("duration", 0.8 + fall);
   c.forwardSpeed = r.nonNegative("forward_speed", 0.0);
   if (r.has("forward_speed")) {
     bool friction = false;

@@ -1,39 +1,26 @@
 // The scene's tables, read and checked for the parser (sim/io/scene_builder.hpp): the two columns of a
-// CSV file through fast-cpp-csv-parser, a path relative to the scene's folder, a strut's metering-pin
-// table (stroke, area) from a CSV file or inline in the scene, with its rules (at least 4 rows, stroke
-// increasing and uniformly spaced, every area > 0), and a tyre's load-deflection curve.
-
-// A false positive of GCC in inlined library code: fast-cpp-csv-parser's bounded file-name copy.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wstringop-truncation"
-#endif
-#include <csv.h>
+// CSV file (sim/io/csv_table.hpp), a path relative to the scene's folder, a strut's metering-pin table
+// (stroke, area) from a CSV file or inline in the scene, with its rules (at least 4 rows, stroke
+// increasing and uniformly spaced, every area > 0), and a tyre's load-deflection curve. A fault in a
+// CSV file is named at its line and column, with the scene's key that names the file.
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 
+#include "sim/io/csv_table.hpp"
 #include "sim/io/scene_builder.hpp"
 
 namespace lg::detail {
 
-// Reads the two columns 'cx', 'cy' of a CSV table with a header through fast-cpp-csv-parser.
-void readColumns(const std::string& path, const TomlReader& r, const std::string& key, const char* cx, const char* cy,
-                 std::vector<double>& x, std::vector<double>& y) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    r.fail(key, "cannot read table '" + path + "': " + (std::filesystem::exists(path, ec) ? "not a regular file" : "no such file"));
-  try {
-    io::CSVReader<2, io::trim_chars<' ', '\t'>, io::no_quote_escape<','>, io::throw_on_overflow, io::single_and_empty_line_comment<'#'>> in(path);
-    in.read_header(io::ignore_no_column, cx, cy);
-    double a, b;
-    while (in.read_row(a, b)) {
-      x.push_back(a);
-      y.push_back(b);
-    }
-  } catch (const std::exception& e) {
-    r.fail(key, "cannot read table '" + path + "': " + e.what());
-  }
+// The two columns 'cx', 'cy' of the CSV table 'path' that the scene's 'key' names (any other column is
+// ignored), with the table's rows for later errors.
+ColumnPair readColumns(const std::string& path, const TomlReader& r, const std::string& key, const char* cx, const char* cy) {
+  if (const std::string why = fileProblem(path); !why.empty()) r.fail(key, "cannot read table '" + path + "': " + why);
+  const std::string context = " (the table of " + r.full(key) + " in " + r.file() + ")";
+  auto csv = std::make_shared<CsvTable>(path, "table", std::string(cx) + "," + cy, context);
+  ColumnPair p{csv->numbers(cx), csv->numbers(cy), csv, {cx, cy}};
+  return p;
 }
 
 // A path of the scene relative to its folder.
@@ -43,26 +30,31 @@ std::string scenePath(const TomlReader& r, const std::string& key, const std::st
   return tp.string();
 }
 
-// A table's samples checked: at least 4, stroke increasing and uniformly spaced, every area > 0.
-std::shared_ptr<const Table1D> checkedTable(std::vector<double> x, std::vector<double> y, const std::string& source,
-                                            const TomlReader& r, const std::string& key, int firstRow) {
-  if (x.size() < 4) r.fail(key, "table '" + source + "' needs at least 4 rows of (stroke, area)");
-  const double dx = (x.back() - x.front()) / double(x.size() - 1);
-  if (!(dx > 0)) r.fail(key, "table '" + source + "': stroke must increase");
-  for (size_t i = 0; i < x.size(); ++i) {
-    if (std::abs(x[i] - (x.front() + dx * double(i))) > 1e-9 * std::max(1.0, std::abs(x.back())))
-      r.fail(key, "table '" + source + "': stroke must be uniformly spaced (row " + std::to_string(i + firstRow) + ")");
-    if (!(y[i] > 0))
-      r.fail(key, "table '" + source + "': area " + fmt(y[i]) + " at row " + std::to_string(i + firstRow) + " must be > 0");
-  }
-  return std::make_shared<Table1D>(std::move(x), std::move(y), source);
+void ColumnPair::fail(const TomlReader& r, const std::string& key, long row, int column, const std::string& rule) const {
+  if (csv) csv->fail(row, names[column], rule);
+  r.fail(key + "." + names[column], rule + (row >= 0 ? " (sample " + std::to_string(row + 1) + ")" : ""));
 }
 
-// Reads a two-column CSV table (header "stroke,area" or any two names) through fast-cpp-csv-parser.
+// A table's samples checked: at least 4, stroke increasing and uniformly spaced, every area > 0.
+std::shared_ptr<const Table1D> checkedTable(ColumnPair t, const std::string& source, const TomlReader& r,
+                                            const std::string& key) {
+  const auto& x = t.x;
+  const auto& y = t.y;
+  if (x.size() < 4) t.fail(r, key, -1, 0, "the table has " + std::to_string(x.size()) + " rows: it needs at least 4 of (stroke, area)");
+  const double dx = (x.back() - x.front()) / double(x.size() - 1);
+  for (size_t i = 0; i < x.size(); ++i) {
+    if (i > 0 && !(x[i] > x[i - 1]))
+      t.fail(r, key, static_cast<long>(i), 0, "stroke " + fmt(x[i]) + " m must be larger than the row before's " + fmt(x[i - 1]) + " m");
+    if (std::abs(x[i] - (x.front() + dx * double(i))) > 1e-9 * std::max(1.0, std::abs(x.back())))
+      t.fail(r, key, static_cast<long>(i), 0, "stroke " + fmt(x[i]) + " m: the strokes must be uniformly spaced (" + fmt(dx) + " m apart)");
+    if (!(y[i] > 0)) t.fail(r, key, static_cast<long>(i), 1, "area " + fmt(y[i]) + " m^2 must be > 0");
+  }
+  return std::make_shared<Table1D>(std::move(t.x), std::move(t.y), source);
+}
+
+// Reads a two-column CSV table "stroke,area" [m, m^2] (units in brackets allowed: "stroke[m],area[m^2]").
 std::shared_ptr<const Table1D> readTable(const std::string& path, const TomlReader& r, const std::string& key) {
-  std::vector<double> x, y;
-  readColumns(path, r, key, "stroke", "area", x, y);
-  return checkedTable(std::move(x), std::move(y), path, r, key, 2);
+  return checkedTable(readColumns(path, r, key, "stroke", "area"), path, r, key);
 }
 
 // An inline table: { stroke = [...] [m], area = [...] [m^2] } (what best.toml and calibrated.toml write
@@ -81,30 +73,31 @@ std::shared_ptr<const Table1D> inlineTable(const toml::table& t, const TomlReade
   if (col[0].size() != col[1].size())
     r.fail(key, "stroke has " + std::to_string(col[0].size()) + " samples and area " + std::to_string(col[1].size()) +
                     ": they must pair up");
-  return checkedTable(std::move(col[0]), std::move(col[1]), "inline", r, key, 1);
+  return checkedTable(ColumnPair{std::move(col[0]), std::move(col[1]), nullptr, {"stroke", "area"}}, "inline", r, key);
 }
 
 // A tyre's load-deflection curve: CSV "deflection,load" [m, N], uniformly spaced from deflection 0 with
 // load 0, the load rising.
 std::shared_ptr<const CurveTable> readCurve(const std::string& path, const TomlReader& r, const std::string& key) {
-  std::vector<double> x, y;
-  readColumns(path, r, key, "deflection", "load", x, y);
-  if (x.size() < 4) r.fail(key, "table '" + path + "' needs at least 4 rows of (deflection, load)");
+  ColumnPair t = readColumns(path, r, key, "deflection", "load");
+  const auto& x = t.x;
+  const auto& y = t.y;
+  if (x.size() < 4) t.fail(r, key, -1, 0, "the table has " + std::to_string(x.size()) + " rows: it needs at least 4 of (deflection, load)");
   const double dx = (x.back() - x.front()) / double(x.size() - 1);
-  if (!(dx > 0)) r.fail(key, "table '" + path + "': deflection must increase");
   if (x.front() != 0.0 || y.front() != 0.0)
-    r.fail(key, "table '" + path + "': the first row must be deflection 0 with load 0 (got " + fmt(x.front()) + ", " +
-                    fmt(y.front()) + "): the tyre touches the ground unloaded");
-  for (size_t i = 0; i < x.size(); ++i) {
-    if (!std::isfinite(x[i]) || !std::isfinite(y[i]))
-      r.fail(key, "table '" + path + "': row " + std::to_string(i + 2) + " must hold finite numbers");
+    t.fail(r, key, 0, x.front() != 0.0 ? 0 : 1,
+           "the first row must be deflection 0 with load 0 (got " + fmt(x.front()) + ", " + fmt(y.front()) +
+               "): the tyre touches the ground unloaded");
+  for (size_t i = 1; i < x.size(); ++i) {
+    if (!(x[i] > x[i - 1]))
+      t.fail(r, key, static_cast<long>(i), 0, "deflection " + fmt(x[i]) + " m must be larger than the row before's " + fmt(x[i - 1]) + " m");
     if (std::abs(x[i] - (x.front() + dx * double(i))) > 1e-9 * std::max(1.0, std::abs(x.back())))
-      r.fail(key, "table '" + path + "': deflection must be uniformly spaced (row " + std::to_string(i + 2) + ")");
-    if (i > 0 && !(y[i] > y[i - 1]))
-      r.fail(key, "table '" + path + "': load " + fmt(y[i]) + " N at row " + std::to_string(i + 2) +
-                      " must be larger than the row before's " + fmt(y[i - 1]) + " N (a tyre's load rises with its deflection)");
+      t.fail(r, key, static_cast<long>(i), 0, "deflection " + fmt(x[i]) + " m: the deflections must be uniformly spaced (" + fmt(dx) + " m apart)");
+    if (!(y[i] > y[i - 1]))
+      t.fail(r, key, static_cast<long>(i), 1, "load " + fmt(y[i]) + " N must be larger than the row before's " + fmt(y[i - 1]) +
+                                                  " N (a tyre's load rises with its deflection)");
   }
-  return std::make_shared<CurveTable>(std::move(x), std::move(y), path);
+  return std::make_shared<CurveTable>(std::move(t.x), std::move(t.y), path);
 }
 
 }  // namespace lg::detail

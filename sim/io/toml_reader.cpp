@@ -74,6 +74,12 @@ double TomlReader::nonNegative(const std::string& key, double def) const {
   if (!(v >= 0)) fail(key, "value " + fmt(v) + " must be >= 0");
   return v;
 }
+double TomlReader::duration(const std::string& key, double def) const {
+  const double v = positive(key, def);
+  if (has(key) && !(v <= kMaxDuration))
+    fail(key, "value " + fmt(v) + " s must be <= " + fmt(kMaxDuration) + " s (a drop test lasts seconds)");
+  return v;
+}
 long long TomlReader::integer(const std::string& key, long long def) const {
   const toml::node* n = t_.get(key);
   if (!n) return def;
@@ -83,7 +89,14 @@ long long TomlReader::integer(const std::string& key, long long def) const {
 long long TomlReader::count(const std::string& key, long long def, long long lo, long long hi) const {
   const toml::node* n = t_.get(key);
   if (!n) return def;
-  const double v = toNumber(*n, key);
+  if (n->is_integer()) {  // compared as the integer it is, never through a rounded double
+    const long long v = *n->value<int64_t>();
+    if (v < lo || v > hi) fail(key, "value " + std::to_string(v) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return v;
+  }
+  if (!n->is_floating_point()) fail(key, "must be a number");
+  const double v = *n->value<double>();
+  if (!std::isfinite(v)) fail(key, "value must be finite");
   if (v != std::floor(v)) fail(key, "value " + fmt(v) + " must be a whole number");
   if (!(v >= static_cast<double>(lo) && v <= static_cast<double>(hi)))
     fail(key, "value " + fmt(v) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
@@ -136,6 +149,8 @@ double TomlReader::toNumber(const toml::node& n, const std::string& key) const {
   else if (n.is_integer()) v = static_cast<double>(*n.value<int64_t>());
   else fail(key, "must be a number");
   if (!std::isfinite(v)) fail(key, "value must be finite");
+  if (std::abs(v) > kMaxMagnitude)
+    fail(key, "value " + fmt(v) + " is beyond " + fmt(kMaxMagnitude) + " in magnitude: no quantity of a gear is that large in SI units");
   return v;
 }
 double TomlReader::checkPositive(const std::string& key, double v) const {
@@ -234,12 +249,18 @@ toml::table parseToml(const std::string& text, const std::string& file) {
   }
 }
 
-std::string readText(const std::string& path, const std::string& what) {
+std::string fileProblem(const std::string& path) {
   std::error_code ec;
   const auto st = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(st)) throw InputError(path, 0, "", "cannot open the " + what + ": no such file");
-  if (!std::filesystem::is_regular_file(st))
-    throw InputError(path, 0, "", "cannot read the " + what + ": not a regular file (a directory, a pipe or a device)");
+  if (ec || !std::filesystem::exists(st)) return "no such file";
+  if (std::filesystem::is_directory(st)) return "a directory, not a file";
+  if (!std::filesystem::is_regular_file(st)) return "not a regular file (a pipe, a socket or a device)";
+  return "";
+}
+
+std::string readText(const std::string& path, const std::string& what) {
+  if (const std::string why = fileProblem(path); !why.empty())
+    throw InputError(path, 0, "", "cannot read the " + what + ": " + why);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "", "cannot open the " + what);
   std::ostringstream s;

@@ -35,6 +35,7 @@ class TomlReader {
   int lineOf(const std::string& key) const;
   // The key as the messages name it: "body[0].mass".
   std::string full(const std::string& key) const { return prefix_.empty() ? key : prefix_ + "." + key; }
+  const std::string& file() const { return file_; }
   [[noreturn]] void fail(const std::string& key, const std::string& rule) const;
   bool has(const std::string& key) const { return t_.contains(key); }
   const toml::node* get(const std::string& key) const { return t_.get(key); }
@@ -47,6 +48,9 @@ class TomlReader {
   double positive(const std::string& key) const;
   double positive(const std::string& key, double def) const;
   double nonNegative(const std::string& key, double def) const;
+  // A drop's duration [s]: > 0 and at most kMaxDuration (a drop test lasts seconds, never hours).
+  double duration(const std::string& key, double def) const;
+  static constexpr double kMaxDuration = 60.0;  // [s]
   long long integer(const std::string& key, long long def) const;
   // A count: a whole number in [lo, hi] (a TOML integer, or a float with an integral value, 1e6).
   long long count(const std::string& key, long long def, long long lo, long long hi) const;
@@ -63,8 +67,9 @@ class TomlReader {
   Vec3<double> unitVec3(const std::string& key, const Vec3<double>& def) const;
   // v normalized; an error at 'key' if it is (nearly) zero.
   Vec3<double> normalize(const std::string& key, const Vec3<double>& v) const;
-  // A finite number from any node (an array element, say); errors name 'key'.
+  // A finite number from any node (an array element, say), at most kMaxMagnitude in magnitude; errors name 'key'.
   double toNumber(const toml::node& n, const std::string& key) const;
+  static constexpr double kMaxMagnitude = 1e15;  // [SI] beyond any mass, stiffness or pressure of a gear (a test's belt: 1e12 kg)
   // The table 'key' of body = mass [kg] (a drop case's masses), each body one of model m's, each mass
   // > 0, into 'masses' (absent: nothing).
   void masses(const std::string& key, const Model<double>& m, std::map<std::string, double>& masses) const;
@@ -88,5 +93,8 @@ toml::table parseToml(const std::string& text, const std::string& file);
 // The whole file; InputError(path, 0, "", "cannot open the <what>") if it cannot be read, and for
 // anything but a regular file (a directory, a pipe: never blocks on a FIFO).
 std::string readText(const std::string& path, const std::string& what = "file");
+// Why 'path' cannot be read as an input file ("no such file", "a directory, not a file", "not a
+// regular file (a pipe, ...)"), or "" if it can.
+std::string fileProblem(const std::string& path);
 
 }  // namespace lg

@@ -121,7 +121,10 @@ TEST_CASE("calibration files: mistakes in the calibration file name its line and
       {kSigma, "", {"cfg", 0, "parameter", "at least one [[parameter]]"}},
       {kSigma, parameter("limit.duration", 0.5, 1), {"cfg", 10, "parameter[0].path", "cannot be fitted"}},
       {kSigma, parameter("strut.Omega0", 1e-3, 2e-3) + "initial = 1.1e-3\n",
-       {"cfg", 9, "parameter", "the scene rejects the initial values: strut.Omega0"}},
+       {"cfg", 9, "parameter[0]", "the scene rejects strut.Omega0 = 0.0011: "}},
+      // named at the parameter at fault, not at the first one
+      {kSigma, kF1 + parameter("strut.Omega0", 1e-3, 2e-3) + "initial = 1.1e-3\n",
+       {"cfg", 13, "parameter[1]", "the scene rejects strut.Omega0 = 0.0011: "}},
       {"sigma = { P_y = 500.0, delta = 1e-3 }", kF1, {"cfg", 8, "measurement[0].sigma.delta", "not a channel of 'columns'"}},
       {"sigma = { P_y = -5.0 }", kF1, {"cfg", 8, "measurement[0].sigma.P_y", "must be > 0"}},
       {"weights = { P_y = 1e-3 }\nsigma = { P_y = 500.0 }", kF1,
@@ -193,7 +196,7 @@ TEST_CASE("calibration files: columns, times and samples of the CSV", "[calib][f
     Files h;
     h.replaceLine(42, "0.02,12,0");
     h.write(kSigma, kF1);
-    expectError(h, {"csv", 42, "", "the row has 3 fields, the header 4"});
+    expectError(h, {"csv", 42, "travel_m", "the row has 3 fields, the header (line 1) 4: this column is missing"});
   }
   {  // longer than the drop: 0.3 s of data, a drop of 0.25 s
     Files f;
@@ -211,15 +214,15 @@ TEST_CASE("calibration files: columns, times and samples of the CSV", "[calib][f
   {  // no such file; no header; no rows
     Files f;
     writeFile(f.dir / "c.cfg", calibText("missing.csv", kSigma, kF1));
-    expectError(f, {"cfg", 3, "measurement[0].file", "does not exist (the path is relative to the calibration file)"});
+    expectError(f, {"cfg", 3, "measurement[0].file", "missing.csv': no such file (the path is relative to the calibration file)"});
     Files g;
     g.csv = "# only a comment\n\n";
     g.write(kSigma, kF1);
-    expectError(g, {"csv", 0, "", "no header line"});
+    expectError(g, {"csv", 0, "header", "no header line"});
     Files h;
     h.csv = "time_s,Fz_N,stroke_m,travel_m\n0,0,0,0\n";
     h.write(kSigma, kF1);
-    expectError(h, {"csv", 1, "", "at least 2 rows"});
+    expectError(h, {"csv", 1, "header", "the file has 1 rows of samples: a measurement needs at least 2"});
   }
 }
 

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <sys/wait.h>
@@ -155,6 +156,33 @@ TEST_CASE("sensitivity: bad [sensitivity] tables name file, line and key", "[opt
   SensitivitySettings noLocal = z.sensitivity;
   noLocal.local = false;
   CHECK_NOTHROW(checkSensitivity(z, noLocal));
+  // a study too large to hold is refused before anything is allocated: the drops of every method
+  // (2 variables, 1 case: Sobol N (D + 2) = 4N) and the bootstrap's draws (resamples x N)
+  const Study big = loadStudy(write("big.cfg", study("[sensitivity]\nsamples = 1048576\nresamples = 1000\n")));
+  CHECK(sensitivityDrops(big, big.sensitivity) == 3 + 20 * 3 + 1048576.0 * 4);
+  for (const auto& [flag, key, line] : {std::tuple<std::string, std::string, int>{"", "sensitivity.resamples", 13},
+                                        {"--samples", "--samples", 0}})
+    try {
+      checkSensitivity(big, big.sensitivity, flag);
+      FAIL("no error for 4.2e6 designs");
+    } catch (const lg::InputError& e) {
+      INFO(e.what());
+      CHECK(e.key() == key);
+      CHECK(e.line() == line);
+      CHECK(std::string(e.what()).find("the bootstrap would redraw N = 1048576 samples 1000 times (1048576000 draws), more "
+                                       "than 1000000000: lower resamples or N") != std::string::npos);
+    }
+  SensitivitySettings many = big.sensitivity;
+  many.resamples = 100;
+  many.cases.assign(3, 0);
+  try {
+    checkSensitivity(big, many);
+    FAIL("no error for 1.26e7 drops");
+  } catch (const lg::InputError& e) {
+    CHECK(e.key() == "sensitivity.samples");
+    CHECK(std::string(e.what()).find("the methods ask for 12583101 drops (2 variables, 3 cases, Sobol N = 1048576, Morris r = 20), "
+                                     "more than 10000000: lower N or r, or run the methods apart") != std::string::npos);
+  }
 }
 
 TEST_CASE("sensitivity: the program exits with status 2 on bad input and writes nothing", "[optim][sensitivity]") {
