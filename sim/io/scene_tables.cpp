@@ -41,10 +41,11 @@ std::shared_ptr<const Table1D> checkedTable(ColumnPair t, const std::string& sou
   const auto& x = t.x;
   const auto& y = t.y;
   if (x.size() < 4) t.fail(r, key, -1, 0, "the table has " + std::to_string(x.size()) + " rows: it needs at least 4 of (stroke, area)");
+  for (size_t i = 1; i < x.size(); ++i)
+    if (!(x[i] > x[i - 1]))
+      t.fail(r, key, static_cast<long>(i), 0, "stroke " + fmt(x[i]) + " m must be larger than the row before's " + fmt(x[i - 1]) + " m");
   const double dx = (x.back() - x.front()) / double(x.size() - 1);
   for (size_t i = 0; i < x.size(); ++i) {
-    if (i > 0 && !(x[i] > x[i - 1]))
-      t.fail(r, key, static_cast<long>(i), 0, "stroke " + fmt(x[i]) + " m must be larger than the row before's " + fmt(x[i - 1]) + " m");
     if (std::abs(x[i] - (x.front() + dx * double(i))) > 1e-9 * std::max(1.0, std::abs(x.back())))
       t.fail(r, key, static_cast<long>(i), 0, "stroke " + fmt(x[i]) + " m: the strokes must be uniformly spaced (" + fmt(dx) + " m apart)");
     if (!(y[i] > 0)) t.fail(r, key, static_cast<long>(i), 1, "area " + fmt(y[i]) + " m^2 must be > 0");
@@ -88,9 +89,10 @@ std::shared_ptr<const CurveTable> readCurve(const std::string& path, const TomlR
     t.fail(r, key, 0, x.front() != 0.0 ? 0 : 1,
            "the first row must be deflection 0 with load 0 (got " + fmt(x.front()) + ", " + fmt(y.front()) +
                "): the tyre touches the ground unloaded");
-  for (size_t i = 1; i < x.size(); ++i) {
+  for (size_t i = 1; i < x.size(); ++i)
     if (!(x[i] > x[i - 1]))
       t.fail(r, key, static_cast<long>(i), 0, "deflection " + fmt(x[i]) + " m must be larger than the row before's " + fmt(x[i - 1]) + " m");
+  for (size_t i = 1; i < x.size(); ++i) {
     if (std::abs(x[i] - (x.front() + dx * double(i))) > 1e-9 * std::max(1.0, std::abs(x.back())))
       t.fail(r, key, static_cast<long>(i), 0, "deflection " + fmt(x[i]) + " m: the deflections must be uniformly spaced (" + fmt(dx) + " m apart)");
     if (!(y[i] > y[i - 1]))

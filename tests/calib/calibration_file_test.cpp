@@ -248,5 +248,6 @@ TEST_CASE("calibrate: bad input is one error line, exit status 2, nothing writte
     CHECK_FALSE(std::filesystem::exists(outDir));
   }
   CHECK(run("calibrate", args[0], out) == 2);
-  CHECK(out == "error: " + f.dir / "drop.csv" + ":40: key 'Fz_N': value 'nan' must be a finite number\n");
+  CHECK(out == "error: " + f.dir / "drop.csv" + ":40: key 'Fz_N': value 'nan' must be a finite number (measurement 'drop' of " +
+                   f.dir / "c.cfg" + ")\n");
 }

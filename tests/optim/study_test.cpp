@@ -308,7 +308,7 @@ TEST_CASE("study: bad files name file, line and key", "[optim][study]") {
   SECTION("missing scene file") {
     std::string t = study(v);
     t.replace(0, t.find('\n'), "scene = \"no/such/scene.toml\"");
-    expectError("scene.cfg", t, 1, "scene", "cannot read the scene file 'no/such/scene.toml': no such file");
+    expectError("scene.cfg", t, 1, "scene", "no/such/scene.toml': no such file (the path is relative to the study file)");
   }
   SECTION("unknown key") {
     expectError("key.cfg", study(v + "lowr = 1\n"), 17, "variable[0].lowr", "unknown key");
@@ -334,13 +334,13 @@ TEST_CASE("study: bad files name file, line and key", "[optim][study]") {
     expectError("minmax.cfg", study(v, "[[constraint]]\nmetric = \"efficiency\"\nmin = 0.9\nmax = 0.8\n"), 20,
                 "constraint[1].max", "greater than min");
     // a bound of the wrong sign, or beyond what the metric can take, can never hold: refused, not run
-    expectError("sign.cfg", study(v, "[[constraint]]\nmetric = \"stroke\"\nmax = -0.15\n"), 20, "constraint[1].max",
+    expectError("sign.cfg", study(v, "[[constraint]]\nmetric = \"stroke\"\nmax = -0.15\n"), 19, "constraint[1].max",
                 "value -0.15 m can never hold: stroke is >= 0 (a margin is stroke_margin, with min = ...)");
-    expectError("sign2.cfg", study(v, "[[constraint]]\nmetric = \"tyre_deflection\"\nmax = -0.15\n"), 20,
+    expectError("sign2.cfg", study(v, "[[constraint]]\nmetric = \"tyre_deflection\"\nmax = -0.15\n"), 19,
                 "constraint[1].max", "value -0.15 m can never hold: tyre_deflection is >= 0 (a margin is tyre_margin");
-    expectError("sign3.cfg", study(v, "[[constraint]]\nmetric = \"static_stroke\"\nmax = -0.01\n"), 20,
+    expectError("sign3.cfg", study(v, "[[constraint]]\nmetric = \"static_stroke\"\nmax = -0.01\n"), 19,
                 "constraint[1].max", "value -0.01 m can never hold: static_stroke is >= 0");
-    expectError("above.cfg", study(v, "[[constraint]]\nmetric = \"efficiency\"\nmin = 1.2\n"), 20, "constraint[1].min",
+    expectError("above.cfg", study(v, "[[constraint]]\nmetric = \"efficiency\"\nmin = 1.2\n"), 19, "constraint[1].min",
                 "value 1.2 can never hold: efficiency is <= 1");
     expectError("check.cfg",
                 study(v, "[[constraint]]\nmetric = \"peak_load\"\nmax = 9e4\ncases = [\"free-drop\"]\n"), 20,

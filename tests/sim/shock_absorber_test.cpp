@@ -242,7 +242,7 @@ TEST_CASE("metering pin: inline tables are checked like CSV tables", "[shock_abs
   const struct {
     std::string table, message;
   } cases[] = {
-      {"{ stroke = [0.0, 0.1, 0.2], area = [1e-4, 1e-4, 1e-4] }", "needs at least 4 rows"},
+      {"{ stroke = [0.0, 0.1, 0.2], area = [1e-4, 1e-4, 1e-4] }", "the table has 3 rows: it needs at least 4 of (stroke, area)"},
       {"{ stroke = [0.0, 0.1, 0.2, 0.3], area = [1e-4, 1e-4, 1e-4] }", "must pair up"},
       {"{ stroke = [0.0, 0.1, 0.25, 0.3], area = [1e-4, 1e-4, 1e-4, 1e-4] }", "uniformly spaced"},
       {"{ stroke = [0.0, 0.1, 0.2, 0.3], area = [1e-4, 0.0, 1e-4, 1e-4] }", "must be > 0"},

@@ -142,3 +142,39 @@ TEST_CASE("scene tables: a fault inside a CSV is named at its line and column, w
   lgtest::writeFile(dir / "pin.csv", "stroke[m],area[m^2]\n0,8e-5\n0.08,6e-5\n0.16,4e-5\n0.24,4e-5\n");
   CHECK_NOTHROW(lg::loadScene(pinScene));
 }
+
+TEST_CASE("csv: the README's table errors are the program's words", "[io][csv][readme]") {
+  const std::string readme = lgtest::readFile(lgtest::sourcePath("README.md"));
+  lgtest::TempDir dir("csv_readme");
+  const std::string seed = lgtest::readFile(lgtest::sourcePath("data/seed_gear.toml"));
+  const std::string tyre = "K = 8.0e5                      # [N/m]\n";
+  std::string withTyre = seed, withPin = seed;
+  withTyre.replace(withTyre.find(tyre), tyre.size(), "law = \"table\"\nload_table = \"tyre.csv\"\n");
+  withTyre.erase(withTyre.find("alpha = 0.5\n"), std::string("alpha = 0.5\n").size());
+  withPin.replace(withPin.find("f1 = 7.0e-5"), std::string("f1 = 7.0e-5").size(), "f1_table = \"pin.csv\"");
+  struct Example {
+    std::string scene, csv, text;
+  };
+  for (const Example& e : std::vector<Example>{
+           {withTyre, "tyre.csv", "# c\ndeflection,load\n0.0,0.0\n0.05,4e4\n0.1,3e4\n0.15,9e4\n"},
+           {withPin, "pin.csv", "stroke;area\n0;8e-5\n"},
+           {withPin, "pin.csv", "0,8e-5\n0.1,7e-5\n"},
+       }) {
+    const std::string scene = dir / "gear.toml";
+    lgtest::writeFile(scene, e.scene);
+    lgtest::writeFile(dir / e.csv, e.text);
+    std::string msg;
+    try {
+      lg::loadScene(scene);
+    } catch (const lg::InputError& err) {
+      msg = std::string("error: ") + err.what();
+    }
+    INFO(msg);
+    REQUIRE(msg.rfind("error: " + (dir / e.csv) + ":", 0) == 0);
+    // the README's line names the files by their bare names
+    std::string bare = msg;
+    bare.replace(bare.find(dir / e.csv), (dir / e.csv).size(), e.csv);
+    bare.replace(bare.find(scene), scene.size(), "gear.toml");
+    CHECK(readme.find("\n" + bare + "\n") != std::string::npos);
+  }
+}

@@ -54,8 +54,8 @@ TEST_CASE("files: the temporaries of dead processes are removed, nothing else", 
   lgtest::TempDir dir("files_stale");
   const std::string dead = std::to_string(deadPid());
   const std::string mine = std::to_string(::getpid());
-  for (const std::string& n : {"best.toml.tmp" + dead, ".write-test" + dead, "result.json.tmp" + mine, "notes.tmp",
-                               "data.tmpx" + dead, "keep.csv"})
+  for (const std::string& n : std::vector<std::string>{"best.toml.tmp" + dead, ".write-test" + dead, "result.json.tmp" + mine,
+                                                      "notes.tmp", "data.tmpx" + dead, "keep.csv"})
     lgtest::writeFile(dir / n, "x");
   lg::prepareOutputDir(dir.path.string());
   CHECK(!fs::exists(dir / ("best.toml.tmp" + dead)));
