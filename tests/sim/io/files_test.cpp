@@ -71,8 +71,7 @@ TEST_CASE("files: simulate killed at any moment leaves no temporary in its outpu
   const std::string out = dir / "out";
   const std::string scene = lgtest::sourcePath("data/seed_gear.toml");
   const std::string bin = lgtest::binPath("simulate");
-  int killedWhileRunning = 0;
-  for (int k = 0; k < 40; ++k) {
+  auto start = [&]() {
     const pid_t p = ::fork();
     if (p == 0) {
       ::freopen("/dev/null", "w", stdout);
@@ -81,14 +80,26 @@ TEST_CASE("files: simulate killed at any moment leaves no temporary in its outpu
               static_cast<char*>(nullptr));
       ::_exit(127);
     }
-    std::this_thread::sleep_for(std::chrono::microseconds(2000 + 2500 * k));  // 2 .. 100 ms: load, runs, writes
+    return p;
+  };
+  // One whole run first: the kills then spread over its length, the writes at its end included.
+  const auto t0 = std::chrono::steady_clock::now();
+  int st = 0;
+  ::waitpid(start(), &st, 0);
+  REQUIRE((WIFEXITED(st) && WEXITSTATUS(st) == 0));
+  const double whole = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  int killedWhileRunning = 0;
+  for (int k = 0; k < 40; ++k) {
+    const pid_t p = start();
+    const double at = whole * (k + 0.5) / 40;
+    std::this_thread::sleep_for(std::chrono::duration<double>(at));
     ::kill(p, SIGKILL);
-    int st = 0;
     ::waitpid(p, &st, 0);
     if (WIFSIGNALED(st)) ++killedWhileRunning;
-    INFO("kill after " << 2 + 2.5 * k << " ms");
+    INFO("kill after " << at << " s of a " << whole << " s run");
     CHECK(temporariesIn(out) == std::vector<std::string>{});
   }
-  lgtest::report("files: %d of 40 runs of simulate killed while running, none left a temporary", killedWhileRunning);
-  CHECK(killedWhileRunning > 10);
+  lgtest::report("files: %d of 40 runs of simulate (%.2f s each) killed while running, none left a temporary",
+                 killedWhileRunning, whole);
+  CHECK(killedWhileRunning > 20);
 }
