@@ -76,16 +76,56 @@ std::string usageLine(const std::string& program, const std::string& positional)
   }() + " [options]";
 }
 
-// argv read by the project's rules, rewritten for the parser as "--name=value" and flags, then "--" and
-// the positional argument: no value can be taken for an option, nor an option for a value.
-std::vector<std::string> normalised(const CLI::App& app, const std::string& program, int argc, char** argv) {
+// The app's positional argument (the input file), if it has one.
+const CLI::Option* positionalOf(const CLI::App& app) {
   const CLI::Option* positional = nullptr;
   for (const CLI::Option* o : app.get_options())
     if (o->get_lnames().empty() && o->get_snames().empty() && !o->get_name(true).empty()) positional = o;
-  const std::string pname = positional ? positional->get_name(true) : "argument";
+  return positional;
+}
+
+// The value of the option 'name' (o) at argv[i]: after '=', or the next argument (i moves on), never an
+// option and never empty.
+std::string optionValue(const CLI::Option* o, const std::string& name, const std::string& a, int& i, int argc, char** argv) {
+  std::string value;
+  if (const auto eq = a.find('='); eq != std::string::npos) {
+    value = a.substr(eq + 1);
+  } else {
+    if (i + 1 >= argc) usage(name, "needs a value: " + name + " " + o->get_type_name() + " (see --help)");
+    value = argv[i + 1];
+    if (looksLikeOption(value))
+      usage(name, "needs a value, not the option " + shownValue(value) + ": " + name + " " + o->get_type_name());
+    ++i;
+  }
+  if (trimmed(value).empty()) usage(name, "the value is empty: " + name + " " + o->get_type_name() + " (see --help)");
+  return value;
+}
+
+// The positional arguments checked: the input file once (where the app has one), appended after "--".
+void appendPositional(const CLI::App& app, const std::string& program, const std::vector<std::string>& positionals,
+                      std::vector<std::string>& out) {
+  const CLI::Option* positional = positionalOf(app);
+  if (!positional) {
+    if (!positionals.empty()) usage(positionals[0].substr(0, 40), program + " takes no file argument (see --help)");
+    return;
+  }
+  const std::string pname = positional->get_name(true);
+  if (positionals.empty() && !positional->get_required()) return;
+  if (positionals.empty())
+    usage(pname, "missing: the " + pname + " file comes first: " + usageLine(program, pname) + " (see --help)");
+  if (positionals.size() > 1)
+    usage(pname, "one " + pname + " file only: " + shownValue(positionals[1]) + " is one too many (options are written --name VALUE)");
+  if (positionals[0].empty()) usage(pname, "the file name is empty");
+  out.push_back("--");
+  out.push_back(positionals[0]);
+}
+
+// argv read by the project's rules, rewritten for the parser as "--name=value" and switches, then "--"
+// and the positional argument: no value can be taken for an option, nor an option for a value.
+std::vector<std::string> normalised(const CLI::App& app, const std::string& program, int argc, char** argv) {
   std::vector<std::string> out{argv[0]}, positionals;
-  std::map<std::string, std::string> given;
-  bool rest = false;
+  std::map<std::string, std::string> given;  // single-valued options: their value
+  bool rest = false;                         // after "--": positional arguments only
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (rest || !looksLikeOption(a)) {
@@ -96,10 +136,8 @@ std::vector<std::string> normalised(const CLI::App& app, const std::string& prog
       rest = true;
       continue;
     }
-    if (a[1] != '-')
-      usage(a.substr(0, 40), "not an option of " + program + " (options are written --name; see --help)");
-    const auto eq = a.find('=');
-    const std::string name = a.substr(0, eq);
+    if (a[1] != '-') usage(a.substr(0, 40), "not an option of " + program + " (options are written --name; see --help)");
+    const std::string name = a.substr(0, a.find('='));
     const CLI::Option* o = findLong(app, name.substr(2));
     if (!o) {
       const std::string near = nearest(app, name.substr(2));
@@ -107,21 +145,11 @@ std::vector<std::string> normalised(const CLI::App& app, const std::string& prog
             "not an option of " + program + (near.empty() ? "" : " (did you mean " + near + "?)") + "; see --help");
     }
     if (isSwitch(o)) {
-      if (eq != std::string::npos) usage(name, "a switch takes no value: write " + name + " alone");
+      if (a.find('=') != std::string::npos) usage(name, "a switch takes no value: write " + name + " alone");
       out.push_back(name);
       continue;
     }
-    std::string value;
-    if (eq != std::string::npos) {
-      value = a.substr(eq + 1);
-    } else {
-      if (i + 1 >= argc) usage(name, "needs a value: " + name + " " + o->get_type_name() + " (see --help)");
-      value = argv[i + 1];
-      if (looksLikeOption(value))
-        usage(name, "needs a value, not the option " + shownValue(value) + ": " + name + " " + o->get_type_name());
-      ++i;
-    }
-    if (trimmed(value).empty()) usage(name, "the value is empty: " + name + " " + o->get_type_name() + " (see --help)");
+    const std::string value = optionValue(o, name, a, i, argc, argv);
     if (!isRepeatable(o)) {
       if (const auto it = given.find(name); it != given.end())
         usage(name, "given twice (" + shownValue(it->second) + " and " + shownValue(value) + "): give it once");
@@ -129,18 +157,7 @@ std::vector<std::string> normalised(const CLI::App& app, const std::string& prog
     }
     out.push_back(name + "=" + value);
   }
-  if (positional) {
-    if (positionals.empty() && !positional->get_required()) return out;
-    if (positionals.empty())
-      usage(pname, "missing: the " + pname + " file comes first: " + usageLine(program, pname) + " (see --help)");
-    if (positionals.size() > 1)
-      usage(pname, "one " + pname + " file only: " + shownValue(positionals[1]) + " is one too many (options are written --name VALUE)");
-    if (positionals[0].empty()) usage(pname, "the file name is empty");
-    out.push_back("--");
-    out.push_back(positionals[0]);
-  } else if (!positionals.empty()) {
-    usage(positionals[0].substr(0, 40), program + " takes no file argument (see --help)");
-  }
+  appendPositional(app, program, positionals, out);
   return out;
 }
 
