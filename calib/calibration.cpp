@@ -84,6 +84,10 @@ void parseParameters(const toml::table& doc, const std::string& file, Calibratio
     p.lower = r.number("lower");
     p.upper = r.number("upper");
     if (!(p.upper > p.lower)) r.fail("upper", "upper " + fmt(p.upper) + " must be greater than lower " + fmt(p.lower));
+    for (const char* bound : {"lower", "upper"})
+      if (const auto why = ownRuleBroken(c.scene, p.parameter, r.number(bound)))
+        r.fail(bound, "value " + fmt(r.number(bound)) + " breaks the rule of " + p.path + ": " + *why +
+                          " (a bound is a value the fit may take)");
     p.initial = r.has("initial") ? r.number("initial") : sceneValue;
     if (!(p.initial >= p.lower && p.initial <= p.upper))
       r.fail(r.has("initial") ? "initial" : "path",

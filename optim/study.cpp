@@ -693,6 +693,10 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
     if (!(v.upper > v.lower))
       r.fail("upper", "upper " + fmt(v.upper) + " must be greater than lower " + fmt(v.lower));
     if (v.log && !(v.lower > 0)) r.fail("lower", "lower " + fmt(v.lower) + " must be > 0 with log = true");
+    for (const char* bound : {"lower", "upper"})
+      if (const auto why = ownRuleBroken(s.scene, s.parameters.back(), r.number(bound)))
+        r.fail(bound, "value " + fmt(r.number(bound)) + " breaks the rule of " + v.path + ": " + *why +
+                          " (a bound is a value the design may take)");
     if (r.has("initial")) {
       v.initial = r.number("initial");
       if (!(v.initial >= v.lower && v.initial <= v.upper))

@@ -109,6 +109,37 @@ double parameterValue(const Scene& scene, const Parameter& p) {
   return 0;
 }
 
+std::optional<std::string> ownRuleBroken(const Scene& scene, const Parameter& p, double x) {
+  if (p.kind == Parameter::Kind::Envelope) return std::nullopt;
+  Scene s = scene;
+  if (p.kind == Parameter::Kind::Case) {
+    DropCase& c = s.cases[p.index];
+    (p.key == "sink_speed" ? c.sinkSpeed : p.key == "lift_ratio" ? c.liftRatio : c.duration) = x;
+  } else {
+    setModelParameter(s.model, p, x);
+  }
+  const auto problem = checkScene(s);
+  if (!problem) return std::nullopt;
+  const char* array = p.kind == Parameter::Kind::BodyMass ? "body"
+                      : p.kind == Parameter::Kind::Force  ? "force"
+                      : p.kind == Parameter::Kind::Case   ? "case"
+                                                          : "stop";
+  const std::string key = p.key.substr(0, p.key.find('['));  // a table's sample: the table's key
+  // Its own rule: a rule of its element and key about its value alone (a case's speed, ratio and duration
+  // rules; "value X must be > 0" or ">= 0" of any other key), never one that compares it with another
+  // value ("gas volume ... must be larger than the volume swept").
+  auto endsWith = [&](const char* tail) {
+    const std::string t(tail);
+    return problem->rule.size() >= t.size() && problem->rule.compare(problem->rule.size() - t.size(), t.size(), t) == 0;
+  };
+  const bool valueAlone = p.kind == Parameter::Kind::Case ||
+                          (problem->rule.rfind("value ", 0) == 0 && (endsWith(" must be > 0") || endsWith(" must be >= 0")));
+  const bool own = problem->array == array && problem->key.substr(0, problem->key.find('[')) == key &&
+                   (p.kind == Parameter::Kind::StopLength || problem->index == p.index) && valueAlone;
+  if (!own) return std::nullopt;
+  return problem->rule;
+}
+
 std::optional<std::string> applyParameters(Scene& scene, const std::vector<Parameter>& ps, const std::vector<double>& x) {
   for (size_t i = 0; i < ps.size(); ++i) {
     const Parameter& p = ps[i];

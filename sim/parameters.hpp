@@ -52,4 +52,10 @@ template <class S> void setModelParameter(Model<S>& m, const Parameter& p, const
 // ("strut.Omega0: gas volume ... must be larger ..."), or nothing.
 std::optional<std::string> applyParameters(Scene& scene, const std::vector<Parameter>& ps, const std::vector<double>& x);
 
+// Why the value x breaks the parameter's own rule (an area <= 0, a mass <= 0, a sink speed above
+// 10 m/s: the rule of its key in the scene file), or nothing. A rule that ties it to another value
+// (the bore above the rod, the gas volume above the swept one) is not its own: a study may cross it and
+// find an infeasible design there. A study's bound must obey the parameter's own rule.
+std::optional<std::string> ownRuleBroken(const Scene& scene, const Parameter& p, double x);
+
 }  // namespace lg

@@ -115,6 +115,8 @@ TEST_CASE("calibration files: mistakes in the calibration file name its line and
       {kSigma, parameter("strut.nope", 1, 2), {"cfg", 10, "parameter[0].path", "not a numeric parameter of the scene"}},
       {kSigma, parameter("nothing.f1", 1, 2), {"cfg", 10, "parameter[0].path", "no body, stop, force element or case"}},
       {kSigma, parameter("strut.f1", 2e-4, 1e-4), {"cfg", 12, "parameter[0].upper", "must be greater than lower"}},
+      {kSigma, parameter("strut.f1", -1e-5, 1e-4) + "initial = 7e-5\n",
+       {"cfg", 11, "parameter[0].lower", "value -1e-05 breaks the rule of strut.f1: "}},
       {kSigma, kF1 + "initial = 2e-4\n", {"cfg", 13, "parameter[0].initial", "must lie in [lower, upper]"}},
       {kSigma, parameter("strut.f1", 8e-5, 1e-4), {"cfg", 10, "parameter[0].path", "the scene value (the default initial) 7e-05"}},
       {kSigma, kF1 + kF1, {"cfg", 14, "parameter[1].path", "already a parameter"}},

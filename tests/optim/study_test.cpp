@@ -319,6 +319,13 @@ TEST_CASE("study: bad files name file, line and key", "[optim][study]") {
                 "must be a number");
     expectError("type2.cfg", study(v, "[algorithm]\nmaxeval = 1.5\n"), 18, "algorithm.maxeval", "integer");
   }
+  SECTION("a bound that breaks the parameter's own rule") {
+    expectError("neg.cfg", study("path = \"strut.f1\"\nlower = -1e-5\nupper = 1.6e-4\ninitial = 7e-5\n"), 15,
+                "variable[0].lower", "value -1e-05 breaks the rule of strut.f1: ");
+    // a rule that ties it to another value is the study's to cross (an infeasible design, not bad input)
+    const Study s = loadStudy(write("cross.cfg", study("path = \"strut.Omega0\"\nlower = 1e-4\nupper = 2e-3\n")));
+    CHECK(s.variables[0].lower == 1e-4);
+  }
   SECTION("bad objective and constraints") {
     std::string t = study(v);
     t.replace(t.find("min_peak_load"), 13, "min_weight");
