@@ -48,9 +48,7 @@ void applyCli(const Cli& c, lg::optim::SensitivitySettings& g) {
   if (!c.method.empty()) {
     g.local = c.method == "local" || c.method == "all";
     g.morris = c.method == "morris" || c.method == "all";
-    g.sobol = c.method == "sobol" || c.method == "all";
-    if (!g.local && !g.morris && !g.sobol)
-      throw lg::InputError("command line", 0, "--method", "value '" + c.method + "' must be local, morris, sobol or all");
+    g.sobol = c.method == "sobol" || c.method == "all";  // (one of the four: addChoice)
   }
   if (c.samples != kNotGiven) {
     if (c.samples < 8 || c.samples > (1 << 20) || (c.samples & (c.samples - 1)) != 0)
@@ -59,7 +57,6 @@ void applyCli(const Cli& c, lg::optim::SensitivitySettings& g) {
     g.samples = c.samples;
   }
   if (c.seed != kNotGiven) {
-    if (c.seed < 0) throw lg::InputError("command line", 0, "--seed", "value " + std::to_string(c.seed) + " must be >= 0");
     g.seed = static_cast<unsigned long long>(c.seed);
   }
 }

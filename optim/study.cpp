@@ -376,9 +376,11 @@ void parseConstraints(const toml::table& doc, const std::string& file, Study& s)
       c.bound = r.number(key);
       // A bound the metric can never meet is a mistake of sign or of metric, not a study to run.
       const double least = design ? 0.0 : info->least, most = design ? MetricInfo::kInf : info->most;
-      if (c.upper && c.bound < least)
+      if (c.upper && c.bound < least) {
+        const std::string margin = metric == "stroke" ? "stroke_margin" : metric == "tyre_deflection" ? "tyre_margin" : "";
         r.fail(key, "value " + fmt(c.bound) + " " + (design ? "m" : info->unit) + " can never hold: " + metric + " is >= " +
-                        fmt(least) + (metric == "stroke" || metric == "tyre_deflection" ? " (a margin is " + std::string(metric == "stroke" ? "stroke_margin" : "tyre_margin") + ", with min = ...)" : ""));
+                        fmt(least) + (margin.empty() ? "" : " (a margin is " + margin + ", with min = ...)"));
+      }
       if (!c.upper && c.bound > most)
         r.fail(key, "value " + fmt(c.bound) + " can never hold: " + metric + " is <= " + fmt(most));
       c.scale = std::max(std::abs(c.bound), unitScale);
