@@ -201,7 +201,7 @@ std::string calibratedToml(const Calibration& c, const FitResult& r, const std::
     for (const auto& a : added) o << " " << a;
     o << "\n";
   }
-  return o.str() + toTomlString(doc);
+  return o.str() + writtenSceneText(c.scene.text, c.sceneFile, doc);
 }
 
 namespace {

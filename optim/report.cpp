@@ -485,7 +485,7 @@ std::string bestSceneText(const Study& s, const std::vector<double>& x, const st
     << ".\n# Variables:";
   for (size_t i = 0; i < s.variables.size(); ++i) o << " " << s.variables[i].path << " = " << num(x[i]) << ";";
   o << "\n";
-  return o.str() + toTomlString(doc);
+  return o.str() + writtenSceneText(s.scene.text, s.sceneFile, doc);
 }
 
 namespace {

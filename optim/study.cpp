@@ -630,7 +630,9 @@ void applySolverTable(const toml::table* t, const std::string& file, Scene& scen
   }
   if (r.has("atol")) sceneSolver.insert_or_assign("atol", r.positive("atol"));
   if (r.has("step")) sceneSolver.insert_or_assign("step", r.positive("step"));
+  std::string text = std::move(scene.text);  // the file it was read from: best.toml keeps its layout
   scene = buildScene(scene.doc, sceneFile, sceneDir);
+  scene.text = std::move(text);
 }
 
 Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir,

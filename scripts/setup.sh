@@ -4,7 +4,7 @@
 set -euo pipefail
 pkgs=(cmake g++ make ninja-build pkg-config
       libeigen3-dev libceres-dev libnlopt-cxx-dev
-      catch2 libfccp-dev libtomlplusplus-dev libcli11-dev
+      catch2 libtomlplusplus-dev libcli11-dev
       gnuplot-nox libboost-dev openmpi-bin libopenmpi-dev)
 missing=()
 for p in "${pkgs[@]}"; do

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "sim/io/toml_reader.hpp"
+#include "sim/io/toml_rewrite.hpp"
 
 namespace lg {
 namespace {
@@ -62,7 +63,9 @@ Scene applyOverrides(const Scene& scene, const std::vector<ParameterOverride>& s
   std::string dir = std::filesystem::path(scene.file).parent_path().string();
   if (dir.empty()) dir = ".";
   try {
-    return buildScene(doc, scene.file, dir);
+    Scene edited = buildScene(doc, scene.file, dir);
+    edited.text = scene.text;  // the file it was read from: written scenes keep its layout
+    return edited;
   } catch (const InputError& e) {  // the fault is the command line's: the scene was valid without it
     std::string given;
     for (const auto& o : sets) given += (given.empty() ? "" : " ") + o.path + "=" + fmt(o.value);
@@ -142,6 +145,13 @@ void relocateTablePaths(toml::table& doc, const std::string& sceneDir, const std
       }
     }
   }
+}
+
+std::string writtenSceneText(const std::string& source, const std::string& file, const toml::table& doc) {
+  const TomlRewrite kept = rewriteToml(source, file, doc);
+  if (kept.text) return *kept.text;
+  return "# (the scene's own layout could not be kept: " + kept.reason + "; the document is written whole)\n" +
+         toTomlString(doc);
 }
 
 }  // namespace lg

@@ -28,6 +28,11 @@ Scene applyOverrides(const Scene& scene, const std::vector<ParameterOverride>& s
 // from outDir (absolute where no relative path leads there).
 void relocateTablePaths(toml::table& doc, const std::string& sceneDir, const std::string& outDir);
 
+// The text of a written scene holding 'doc': the scene file's own text 'source' with only the changed
+// values replaced (sim/io/toml_rewrite.hpp), so that a diff against the scene shows the change alone;
+// where that cannot reproduce 'doc' exactly, the document written whole, after a comment saying why.
+std::string writtenSceneText(const std::string& source, const std::string& file, const toml::table& doc);
+
 // A list of numbers "a,b,c" or a range "start:step:stop" (stop included when the steps land on it
 // within 1e-9 of a step); every value must satisfy 'positive' (> 0) or be >= 0. 'flag' names it in errors.
 std::vector<double> parseValueList(const std::string& text, const std::string& flag, bool positive);

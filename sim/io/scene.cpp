@@ -199,7 +199,9 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
 }
 
 Scene parseScene(const std::string& text, const std::string& file, const std::string& baseDir) {
-  return buildScene(parseToml(text, file), file, baseDir);
+  Scene sc = buildScene(parseToml(text, file), file, baseDir);
+  sc.text = text;
+  return sc;
 }
 
 Scene loadScene(const std::string& path) {

@@ -99,6 +99,7 @@ struct Scene {
   std::string file;          // path as given (for messages)
   std::string name;
   toml::table doc;           // the parsed document (design studies edit it and rebuild)
+  std::string text;          // the file's text as read: a written scene keeps it (sim/io/toml_rewrite.hpp)
   Model<double> model;
   State<double> initial;     // positions at t = 0 (velocities set per case)
   std::vector<DropCase> cases;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "apps/cli.hpp"
+#include "docs_support.hpp"  // docsText: README.md and docs/
 #include "files_support.hpp"
 
 #include <catch2/catch.hpp>
@@ -193,8 +194,8 @@ TEST_CASE("cli: an input that is not a regular file is named for what it is", "[
                        "error: " + path + ": cannot read the " + inputKind(p) + " file: " + why, outDir);
 }
 
-TEST_CASE("cli: the README's command-line errors are the programs' words", "[cli][readme]") {
-  const std::string readme = lgtest::readFile(lgtest::sourcePath("README.md"));
+TEST_CASE("cli: the docs' command-line errors are the programs' words", "[cli][readme]") {
+  const std::string readme = lgtest::docsText();  // README.md and docs/
   lgtest::TempDir dir("cli_readme");
   const std::string scene = q(lgtest::sourcePath("data/seed_gear.toml")) + " --out " + q(dir / "out") + " ";
   for (const char* args : {"--threads abc", "--out --quiet", "--thread 2", "--set solver.integrator=rk4"}) {
@@ -202,6 +203,6 @@ TEST_CASE("cli: the README's command-line errors are the programs' words", "[cli
     INFO(args);
     CHECK(run("simulate", scene + args, out, err) == 2);
     CHECK(err.rfind("error: command line: ", 0) == 0);
-    CHECK(readme.find("\n" + err) != std::string::npos);  // the whole line, as the README prints it
+    CHECK(readme.find("\n" + err) != std::string::npos);  // the whole line, as the docs print it
   }
 }

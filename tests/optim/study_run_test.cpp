@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -14,6 +15,7 @@
 #include "optim/study.hpp"
 #include "sim/drop_gradient.hpp"
 
+#include "docs_support.hpp"   // docsText
 #include "files_support.hpp"  // TempDir, readFile, writeFile
 
 // After the project headers: glog (through Ceres) defines CHECK too; Catch's must win.
@@ -344,6 +346,25 @@ TEST_CASE("study run: the robust main study holds its limits at every corner and
   CHECK(report.find("**Price of robustness:**") != std::string::npos);
   CHECK(readFile(fs::path(o.outDir) / "result.json").find("\"robustness\": {\"points\": 17") != std::string::npos);
   CHECK(fs::exists(fs::path(o.outDir) / "nominal" / "history.csv"));
+  // best.toml is the scene file itself with the five tuned values replaced (comments, order and
+  // spellings kept) under a comment head: a diff shows the design change and nothing else
+  {
+    std::vector<std::string> scene, best;
+    std::istringstream a(readFile(fs::path(LG_SOURCE_DIR) / "data/seed_gear.toml")), c(readFile(fs::path(o.outDir) / "best.toml"));
+    for (std::string l; std::getline(a, l);) scene.push_back(l);
+    for (std::string l; std::getline(c, l);) best.push_back(l);
+    REQUIRE(best.size() > scene.size());
+    const std::size_t head = best.size() - scene.size();
+    for (std::size_t i = 0; i < head; ++i) CHECK(best[i].rfind("# ", 0) == 0);
+    std::vector<std::string> changed;
+    for (std::size_t i = 0; i < scene.size(); ++i)
+      if (best[head + i] != scene[i]) {
+        const std::string key = scene[i].substr(0, scene[i].find(" = "));
+        CHECK(best[head + i].rfind(key + " = ", 0) == 0);  // the same key on the same line
+        changed.push_back(key);
+      }
+    CHECK(changed == std::vector<std::string>{"p01", "Omega0", "f1", "f2", "K"});
+  }
   const fs::path cert = fs::path(o.outDir) / "certify";
   const std::string cmd = std::string(LG_BIN_DIR) + "/certify '" + (fs::path(o.outDir) / "best.toml").string() +
                           "' --out '" + cert.string() + "' --quiet";
@@ -351,8 +372,8 @@ TEST_CASE("study run: the robust main study holds its limits at every corner and
   REQUIRE(WIFEXITED(rc));
   CHECK(WEXITSTATUS(rc) == 0);
   CHECK(readFile(cert / "compliance.md").find("**Verdict over the envelope: PASS**") != std::string::npos);
-  // the README's example output of the main job is this run's
-  const std::string readme = readFile(fs::path(LG_SOURCE_DIR) / "README.md");
+  // the docs' example output of the main job is this run's
+  const std::string readme = lgtest::docsText();  // README.md and docs/
   char line[400];
   std::snprintf(line, sizeof line, "objective (min peak load, N): baseline %g -> best %g (feasible, evaluation %d)",
                 r.opt.initial.objective, r.opt.best.objective, r.opt.bestIndex);

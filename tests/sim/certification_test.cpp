@@ -2,6 +2,7 @@
 // basis generates against hand-computed numbers (certification.md), the limits and verdicts, and the
 // program's outputs and exit statuses.
 #include "scene_support.hpp"  // sim headers, then Catch (see there)
+#include "docs_support.hpp"   // docsText: README.md and docs/
 
 #include <sys/wait.h>
 
@@ -209,7 +210,7 @@ TEST_CASE("certify: exit 0 when the matrix passes, 1 when a case fails, 2 on bad
 
 // certify over the seed gear's envelope: every case at the nominal point and its 16 corners, the same
 // bytes on 1 and 2 threads; the worst corner of the reserve drop's stroke margin named; --nominal runs
-// the nominal point alone. The README's example output is this run's.
+// the nominal point alone. The docs' example output is this run's.
 TEST_CASE("certify: the envelope's every corner, the worst named, the same bytes on 1 and 2 threads",
           "[certification][envelope]") {
   const lgtest::TempDir dir("certify_envelope");
@@ -231,11 +232,11 @@ TEST_CASE("certify: the envelope's every corner, the worst named, the same bytes
   // --nominal: no envelope section
   REQUIRE(certify(q(scene) + " --nominal --out " + q(dir / "n"), dir / "err3.txt") == 0);
   CHECK(lgtest::readFile(dir / "n/compliance.json").find("\"envelope\"") == std::string::npos);
-  // the README's example: the terminal lines of this run (the wall time aside)
+  // the docs' example: the terminal lines of this run (the wall time aside)
   const std::string cmd = "'" + lgtest::binPath("certify") + "' " + q(scene) + " --out " + q(dir / "t3") + " --threads 2 > " +
                           q(dir / "out.txt");
   REQUIRE(std::system(cmd.c_str()) == 0);
-  const std::string readme = lgtest::readFile(lgtest::sourcePath("README.md"));
+  const std::string readme = lgtest::docsText();  // README.md and docs/
   std::istringstream out(lgtest::readFile(dir / "out.txt"));
   int lines = 0;
   for (std::string line; std::getline(out, line);) {

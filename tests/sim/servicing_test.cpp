@@ -3,6 +3,7 @@
 // telescopic gear (a vertical strut: r = 1), the compression ratios, and the chart at each ambient
 // temperature with its tolerance band.
 #include "scene_support.hpp"  // sim headers, then Catch (see there)
+#include "docs_support.hpp"   // docsText: README.md and docs/
 
 #include "sim/servicing.hpp"
 
@@ -74,8 +75,8 @@ TEST_CASE("servicing: the telescopic gear's ratio is 1 and its static stroke at 
   REQUIRE(c.chart.size() == 1);  // no envelope: the service temperature only
 }
 
-// The README's figures for the seed gear ("The servicing chart") are this computation's.
-TEST_CASE("servicing: the seed gear's static point and chart as the README gives them", "[servicing][readme]") {
+// The docs' figures for the seed gear ("The servicing chart") are this computation's.
+TEST_CASE("servicing: the seed gear's static point and chart as the docs give them", "[servicing][readme]") {
   const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/seed_gear.toml"));
   const lg::ServicingCurve c = lg::servicingCurve(sc, 4050.0);
   REQUIRE(c.ok);
@@ -83,7 +84,7 @@ TEST_CASE("servicing: the seed gear's static point and chart as the README gives
   std::snprintf(b, sizeof b,
                 "static stroke %.4f m of 0.16 m, P_a %.1f kN (r = %.2f), compression ratios %.2f and %.2f", c.staticStroke,
                 c.staticForce / 1e3, c.staticRatio, c.extendedToStatic, c.staticToCompressed);
-  const std::string readme = lgtest::readFile(lgtest::sourcePath("README.md"));
+  const std::string readme = lgtest::docsText();  // README.md and docs/
   INFO(b);
   CHECK(readme.find(b) != std::string::npos);
   REQUIRE(c.chart.size() == 5);

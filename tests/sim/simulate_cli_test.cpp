@@ -1,6 +1,7 @@
 // The `simulate` program end to end (apps/simulate.cpp, sim/io/results.cpp): the files it writes,
 // columns that follow the scene, plots, and thread-count independence.
 #include "scene_support.hpp"  // sim headers, then Catch (see there)
+#include "docs_support.hpp"   // docsText: README.md and docs/
 
 #include <sys/wait.h>
 
@@ -400,13 +401,13 @@ TEST_CASE("simulate --accuracy: the stiffness hand-over and its handed-back tria
                           std::regex("\"stiff_from_s\": 0\\.4069[0-9]+,\n *\"stiff_handbacks\": 0,")));
 }
 
-// The README's example of every friction on one slide (data/friction_gear.toml): the terminal lines of this
+// The docs' example of every friction on one slide (data/friction_gear.toml): the terminal lines of this
 // run, the table cut after its "steps" column (wall time and limits left out).
-TEST_CASE("simulate: the README's friction gear example is this run's", "[cli][bearing_friction]") {
+TEST_CASE("simulate: the docs' friction gear example is this run's", "[cli][bearing_friction]") {
   lgtest::TempDir dir("cli_friction_gear");
   std::string out;
   REQUIRE(simulateCapture(q(lgtest::sourcePath("data/friction_gear.toml")) + " --threads 1 --out " + q(dir / "out"), out) == 0);
-  const std::string readme = lgtest::readFile(lgtest::sourcePath("README.md"));
+  const std::string readme = lgtest::docsText();  // README.md and docs/
   std::istringstream lines(out);
   std::string header;
   std::getline(lines, header);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "docs_support.hpp"  // docsText: README.md and docs/
 #include "files_support.hpp"
 #include "sim/io/scene.hpp"
 
@@ -143,8 +144,8 @@ TEST_CASE("scene tables: a fault inside a CSV is named at its line and column, w
   CHECK_NOTHROW(lg::loadScene(pinScene));
 }
 
-TEST_CASE("csv: the README's table errors are the program's words", "[io][csv][readme]") {
-  const std::string readme = lgtest::readFile(lgtest::sourcePath("README.md"));
+TEST_CASE("csv: the docs' table errors are the program's words", "[io][csv][readme]") {
+  const std::string readme = lgtest::docsText();  // README.md and docs/
   lgtest::TempDir dir("csv_readme");
   const std::string seed = lgtest::readFile(lgtest::sourcePath("data/seed_gear.toml"));
   const std::string tyre = "K = 8.0e5                      # [N/m]\n";
@@ -171,7 +172,7 @@ TEST_CASE("csv: the README's table errors are the program's words", "[io][csv][r
     }
     INFO(msg);
     REQUIRE(msg.rfind("error: " + (dir / e.csv) + ":", 0) == 0);
-    // the README's line names the files by their bare names
+    // the docs' line names the files by their bare names
     std::string bare = msg;
     bare.replace(bare.find(dir / e.csv), (dir / e.csv).size(), e.csv);
     bare.replace(bare.find(scene), scene.size(), "gear.toml");
