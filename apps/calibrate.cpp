@@ -20,7 +20,7 @@
 #include "sim/io/overrides.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"Fit a gear's model to measured drop tests with Ceres, with uncertainties (see README, \"calibrate\")"};
+  CLI::App app{"Fit a gear's model to measured drop tests with Ceres, with uncertainties (docs/calibrate.md, docs/calibration.md)"};
   lg::cli::addVersion(app, "calibrate");
   std::string calibPath, outDir;
   std::vector<std::string> sets;

@@ -29,7 +29,7 @@ std::shared_ptr<const lg::Certification> matrixOf(const lg::Scene& scene, const 
   if (!t)
     throw lg::InputError(scenePath, 0, "certification",
                          "the scene has no [certification] table: add one with basis, landing_mass, limit_load_factor, "
-                         "... (README, \"Certification\")");
+                         "... (docs/certification.md)");
   return basis.empty() ? scene.certification
                        : std::make_shared<const lg::Certification>(lg::parseCertification(*t, scenePath, scene, basis));
 }

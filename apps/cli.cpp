@@ -68,20 +68,22 @@ std::string nearest(const CLI::App& app, const std::string& name) {
   return best;
 }
 
-std::string usageLine(const std::string& program, const std::string& positional) {
-  return program + " " + [&] {
-    std::string up = positional;
+// "simulate SCENE [options]", "compare A B [options]".
+std::string usageLine(const std::string& program, const std::vector<std::string>& positionals) {
+  std::string line = program;
+  for (std::string up : positionals) {
     for (char& c : up) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    return up;
-  }() + " [options]";
+    line += " " + up;
+  }
+  return line + " [options]";
 }
 
-// The app's positional argument (the input file), if it has one.
-const CLI::Option* positionalOf(const CLI::App& app) {
-  const CLI::Option* positional = nullptr;
+// The app's positional arguments (its input files), in the order declared.
+std::vector<const CLI::Option*> positionalsOf(const CLI::App& app) {
+  std::vector<const CLI::Option*> positionals;
   for (const CLI::Option* o : app.get_options())
-    if (o->get_lnames().empty() && o->get_snames().empty() && !o->get_name(true).empty()) positional = o;
-  return positional;
+    if (o->get_lnames().empty() && o->get_snames().empty() && !o->get_name(true).empty()) positionals.push_back(o);
+  return positionals;
 }
 
 // The value of the option 'name' (o) at argv[i]: after '=', or the next argument (i moves on), never an
@@ -101,23 +103,30 @@ std::string optionValue(const CLI::Option* o, const std::string& name, const std
   return value;
 }
 
-// The positional arguments checked: the input file once (where the app has one), appended after "--".
+// The positional arguments checked: each input file once (where the app has them), appended after "--".
 void appendPositional(const CLI::App& app, const std::string& program, const std::vector<std::string>& positionals,
                       std::vector<std::string>& out) {
-  const CLI::Option* positional = positionalOf(app);
-  if (!positional) {
+  const std::vector<const CLI::Option*> declared = positionalsOf(app);
+  if (declared.empty()) {
     if (!positionals.empty()) usage(positionals[0].substr(0, 40), program + " takes no file argument (see --help)");
     return;
   }
-  const std::string pname = positional->get_name(true);
-  if (positionals.empty() && !positional->get_required()) return;
-  if (positionals.empty())
-    usage(pname, "missing: the " + pname + " file comes first: " + usageLine(program, pname) + " (see --help)");
-  if (positionals.size() > 1)
-    usage(pname, "one " + pname + " file only: " + shownValue(positionals[1]) + " is one too many (options are written --name VALUE)");
-  if (positionals[0].empty()) usage(pname, "the file name is empty");
+  std::vector<std::string> names;
+  for (const CLI::Option* o : declared) names.push_back(o->get_name(true));
+  if (positionals.empty() && !declared[0]->get_required()) return;
+  static const char* kOrdinal[] = {"first", "second", "third"};
+  if (positionals.size() < declared.size()) {
+    const std::size_t k = positionals.size();
+    usage(names[k], "missing: the " + names[k] + " file comes " + (k < 3 ? kOrdinal[k] : "next") + ": " +
+                        usageLine(program, names) + " (see --help)");
+  }
+  if (positionals.size() > declared.size())
+    usage(names.back(), (declared.size() == 1 ? "one " + names[0] + " file only: " : std::to_string(declared.size()) + " files only: ") +
+                            shownValue(positionals[declared.size()]) + " is one too many (options are written --name VALUE)");
+  for (std::size_t k = 0; k < positionals.size(); ++k)
+    if (positionals[k].empty()) usage(names[k], "the file name is empty");
   out.push_back("--");
-  out.push_back(positionals[0]);
+  for (const auto& p : positionals) out.push_back(p);
 }
 
 // argv read by the project's rules, rewritten for the parser as "--name=value" and switches, then "--"

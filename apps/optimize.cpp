@@ -17,7 +17,7 @@
 #include "sim/io/plots.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"Design study of a gear scene with NLopt (see README, \"Study files\")"};
+  CLI::App app{"Design study of a gear scene with NLopt (docs/optimize.md, docs/study.md)"};
   lg::cli::addVersion(app, "optimize");
   std::string studyPath, outDir;
   std::vector<std::string> sets;

@@ -83,7 +83,7 @@ void printSummary(const lg::optim::Study& s, const lg::optim::SensitivityResult&
 // The command line: -1 to go on, otherwise the exit status (0 after --help or --version, 2 after a
 // usage error; only rank 0 speaks).
 int parseCommandLine(int argc, char** argv, bool root, Cli& c) {
-  CLI::App app{"Local, Morris and Sobol sensitivities of a gear study (see README, \"sensitivity\")"};
+  CLI::App app{"Local, Morris and Sobol sensitivities of a gear study (docs/sensitivity.md)"};
   lg::cli::addVersion(app, "sensitivity");
   lg::cli::addInputFile(app, "study", c.study, "study file (TOML, .cfg or .toml): variables, ranges, cases, [sensitivity]");
   lg::cli::addText(app, "--out", c.out, "output directory (default: <study stem>-sensitivity in the current directory)");

@@ -141,7 +141,7 @@ lg::Scene loadInputs(const Options& o, const CLI::App& app, std::vector<lg::Drop
 // every corner), named "<case>@<corner>"; throws lg::InputError.
 std::vector<lg::DropCase> atCorners(const Options& o, const lg::Scene& scene, const std::vector<lg::DropCase>& cases) {
   if (!scene.envelope.declared)
-    throw lg::InputError("command line", 0, "--corner", "the scene has no [envelope] table (README, \"The servicing and "
+    throw lg::InputError("command line", 0, "--corner", "the scene has no [envelope] table (docs/certification.md, \"The servicing and "
                                                         "temperature envelope\")");
   const std::vector<lg::EnvelopeCorner> all = scene.envelope.corners();
   std::vector<lg::EnvelopeCorner> chosen;

@@ -6,8 +6,8 @@
 #include <set>
 
 #include "sim/io/csv_table.hpp"
-#include "optim/study.hpp"  // applySolverTable
-#include "optim/units.hpp"
+#include "sim/io/overrides.hpp"  // applySolverTable
+#include "sim/parameters.hpp"  // parameterUnit
 #include "sim/io/files.hpp"
 #include "sim/io/toml_reader.hpp"
 
@@ -80,7 +80,7 @@ void parseParameters(const toml::table& doc, const std::string& file, Calibratio
     } catch (const InputError& e) {
       r.fail("path", "'" + p.path + "' is not a numeric parameter of the scene file (" + e.what() + ")");
     }
-    p.unit = optim::parameterUnit(p.path);
+    p.unit = parameterUnit(p.path);
     p.lower = r.number("lower");
     p.upper = r.number("upper");
     if (!(p.upper > p.lower)) r.fail("upper", "upper " + fmt(p.upper) + " must be greater than lower " + fmt(p.lower));
@@ -366,7 +366,7 @@ Calibration parseCalibration(const std::string& text, const std::string& file, c
     if (c.sceneDir.empty()) c.sceneDir = ".";
     c.scene = applyOverrides(loadScene(c.sceneFile), sets);  // its own errors name the scene file
   }
-  optim::applySolverTable(tableOf(doc, "solver", file), file, c.scene, c.sceneFile, c.sceneDir);
+  applySolverTable(tableOf(doc, "solver", file), file, c.scene, c.sceneFile, c.sceneDir);
   parseParameters(doc, file, c);
   parseFit(doc, file, c);
   parseMeasurements(doc, file, baseDir, c);

@@ -2,7 +2,7 @@
 // names a scene, the measured drops (a CSV each, the scene case or the inline case it was dropped in,
 // which CSV column holds which history channel, a weight or the noise sigma per channel, a known or a
 // fitted touchdown time) and the parameters to fit (scene parameters by path, with bounds). `calibrate`
-// runs it (calib/fit.hpp). README.md, "calibrate", has the format; in short:
+// runs it (calib/fit.hpp). docs/calibration.md has the format; in short:
 //
 //   scene = "../data/seed_gear.toml"          # relative to the calibration file
 //   [solver]        integrator, rtol, atol, step    # into the scene's [solver], as in a study

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "optim/format.hpp"
+#include "sim/io/format.hpp"
 #include "sim/io/files.hpp"
 #include "sim/io/json.hpp"
 #include "sim/io/overrides.hpp"
@@ -15,9 +15,6 @@
 namespace fs = std::filesystem;
 
 namespace lg::calib {
-
-using optim::exactNumber;
-using optim::shortNumber;
 
 namespace {
 

@@ -2,9 +2,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "optim/format.hpp"
+#include "sim/io/format.hpp"
 #include "optim/sensitivity_report.hpp"
-#include "optim/units.hpp"
+#include "sim/parameters.hpp"  // parameterUnit
 #include "sim/io/json.hpp"
 
 namespace lg::optim {

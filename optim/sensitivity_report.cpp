@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <sstream>
 
-#include "optim/format.hpp"
-#include "optim/units.hpp"
+#include "sim/io/format.hpp"
+#include "sim/parameters.hpp"  // parameterUnit
 #include "sim/io/files.hpp"
 #include "sim/io/plots.hpp"
 #include "sim/metrics.hpp"

@@ -601,40 +601,6 @@ void chooseSolver(bool studySolver, Study& s) {
 }  // namespace
 
 // ---- parsing ---------------------------------------------------------------------------------------
-void applySolverTable(const toml::table* t, const std::string& file, Scene& scene, const std::string& sceneFile,
-                      const std::string& sceneDir) {
-  if (!t) return;
-  TomlReader r(*t, file, "solver");
-  r.allowOnly({"integrator", "rtol", "atol", "step", "accuracy"});
-  toml::table& sceneSolver = *scene.doc.insert("solver", toml::table{}).first->second.as_table();
-  if (r.has("accuracy")) {  // the relative accuracy of the metrics: it chooses integrator and tolerances
-    const double a = r.positive("accuracy");
-    if (const std::string rule = accuracyRule(a); !rule.empty()) r.fail("accuracy", "value " + fmt(a) + " " + rule);
-    for (const char* k : {"integrator", "rtol", "atol"})
-      if (r.has(k)) r.fail(k, std::string("accuracy chooses integrator, rtol and atol: give either accuracy or ") + k);
-    for (const char* k : {"integrator", "rtol", "atol", "max_step"}) sceneSolver.erase(k);
-    sceneSolver.insert_or_assign("accuracy", a);
-  } else if (r.has("integrator") || r.has("rtol") || r.has("atol")) {
-    sceneSolver.erase("accuracy");  // the study's own integrator settings replace the scene's accuracy
-  }
-  if (r.has("integrator")) {
-    const std::string name = r.string("integrator");
-    IntegratorKind kind;
-    if (!integratorFromName(name, kind)) r.fail("integrator", "value '" + name + "' must be one of " + integratorNames());
-    sceneSolver.insert_or_assign("integrator", name);
-  }
-  if (r.has("rtol")) {
-    const double rtol = r.positive("rtol");
-    sceneSolver.insert_or_assign("rtol", rtol);
-    if (!r.has("atol")) sceneSolver.insert_or_assign("atol", rtol * 1e-2);
-  }
-  if (r.has("atol")) sceneSolver.insert_or_assign("atol", r.positive("atol"));
-  if (r.has("step")) sceneSolver.insert_or_assign("step", r.positive("step"));
-  std::string text = std::move(scene.text);  // the file it was read from: best.toml keeps its layout
-  scene = buildScene(scene.doc, sceneFile, sceneDir);
-  scene.text = std::move(text);
-}
-
 Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir,
                  const std::vector<ParameterOverride>& sets, bool nominal) {
   const toml::table doc = parseToml(text, file);
@@ -644,7 +610,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
   TomlReader top(doc, file, "");
   if (top.has("constraints"))
     top.fail("constraints", "the [constraints] table was replaced by a list of [[constraint]] tables, one bound each, "
-                            "e.g. [[constraint]] metric = \"stroke_margin\" min = 0.01 (README, \"Study files\")");
+                            "e.g. [[constraint]] metric = \"stroke_margin\" min = 0.01 (docs/study.md)");
   top.allowOnly({"name", "description", "scene", "solver", "variable", "case", "objective", "constraint", "certification",
                  "envelope", "algorithm", "sensitivity"});
   s.name = top.name("name", safeFileStem(std::filesystem::path(file).stem().string()));

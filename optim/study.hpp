@@ -1,4 +1,4 @@
-// Design studies of a gear scene (README.md, "Study files"): a study file (TOML, ".cfg" or ".toml")
+// Design studies of a gear scene (docs/study.md): a study file (TOML, ".cfg" or ".toml")
 // names a scene, the design variables (scene parameters by path), the drop cases with their roles,
 // the objective, the constraints, the certification matrix and the NLopt algorithm. `optimize` runs it.
 //
@@ -200,12 +200,6 @@ Study loadStudy(const std::string& path, const std::vector<ParameterOverride>& s
 // 'file' names the text in messages; 'baseDir' resolves the scene path.
 Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir = ".",
                  const std::vector<ParameterOverride>& sets = {}, bool nominal = false);
-
-// The [solver] table 't' of a study or calibration file (integrator, rtol, atol = rtol/100 unless given,
-// step; or accuracy, which chooses integrator and tolerances; absent: nothing) written into the scene's own [solver], and the scene rebuilt with it: every
-// design and the written scenes (best.toml, calibrated.toml) run with those settings. Errors name 'file'.
-void applySolverTable(const toml::table* t, const std::string& file, Scene& scene, const std::string& sceneFile,
-                      const std::string& sceneDir);
 
 // True where NLopt handles inequality constraints itself (COBYLA, ISRES, AGS, AUGLAG family); the
 // other local algorithms run inside LN_AUGLAG, the global ones get an exact penalty (optimizer.hpp).

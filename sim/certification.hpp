@@ -1,4 +1,4 @@
-// The certification drop-test matrix (shared/spec/certification.md restated in README "Certification"):
+// The certification drop-test matrix (docs/certification.md):
 // a [certification] table names the rules' basis and the unit's masses and limits; from it come the
 // limit, takeoff-weight and reserve-energy cases with the rules' sink speeds and lift ratios, and the
 // limits each case must meet. `certify` runs them; design studies use them as constraint cases.

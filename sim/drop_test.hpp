@@ -37,7 +37,7 @@ struct TyreMetrics {
   double drag_max_N = 0;        // max P_x, the drag load (positive aft)
 };
 
-// Per-case figures (definitions in seed-gear.md and README "Metrics"). Peaks are refined on the dense
+// Per-case figures (definitions in docs/metrics.md). Peaks are refined on the dense
 // output; the compression integrals run from touchdown to the maximum they are normalised by.
 struct CaseMetrics {
   std::string name;

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <limits>
 
-#include "sim/core/state.hpp"
+#include "sim/model/state.hpp"
 #include "sim/solvers/multipliers.hpp"
 
 namespace lg {

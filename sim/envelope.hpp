@@ -1,4 +1,4 @@
-// The servicing and temperature envelope of a gear (a scene's [envelope] table, README "The envelope"):
+// The servicing and temperature envelope of a gear (a scene's [envelope] table, docs/certification.md, "The servicing and temperature envelope"):
 // a real strut never lands with its nominal gas charge. Its nitrogen is charged at a servicing
 // temperature T_s and lands anywhere from a cold to a hot day; servicing leaves the pre-charge and the
 // oil level within a tolerance; orifices are made to a tolerance; the tyre is inflated within one.
@@ -29,7 +29,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/core/state.hpp"
+#include "sim/model/state.hpp"
 
 namespace lg {
 

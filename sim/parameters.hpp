@@ -29,6 +29,13 @@ Parameter resolveParameter(const Scene& scene, const std::string& path, const st
 // The SI unit of a parameter by its scene key ("f1" and "f1_table[3]" -> "m^2", "mass" -> "kg", "-" for a
 // ratio; "?" for a key the catalogue does not know): the one table of units for every output.
 std::string unitOfKey(const std::string& key);
+// The unit of a parameter path "<element>.<key>" by its key (unitOfKey).
+inline std::string parameterUnit(const std::string& path) {
+  const auto dot = path.rfind('.');
+  return unitOfKey(dot == std::string::npos ? path : path.substr(dot + 1));
+}
+// "strut.f1[m^2]": a column header.
+inline std::string parameterHeader(const std::string& path) { return path + "[" + parameterUnit(path) + "]"; }
 
 // The parameter's value in a scene.
 double parameterValue(const Scene& scene, const Parameter& p);

@@ -1,4 +1,4 @@
-// The strut at rest and its servicing chart (certify writes them; README "The servicing chart"): the
+// The strut at rest and its servicing chart (certify writes them; docs/certification.md, "The servicing chart"): the
 // static air curve, the static stroke at 1 g of the unit's mass, the compression ratios, and the
 // pressure a mechanic reads at a measured extension under the static load at several ambient
 // temperatures, with the charge's tolerance band. For the first shock absorber of a scene.

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "sim/accuracy.hpp"  // accuracyRule
 #include "sim/io/toml_reader.hpp"
 #include "sim/io/toml_rewrite.hpp"
 
@@ -152,6 +153,40 @@ std::string writtenSceneText(const std::string& source, const std::string& file,
   if (kept.text) return *kept.text;
   return "# (the scene's own layout could not be kept: " + kept.reason + "; the document is written whole)\n" +
          toTomlString(doc);
+}
+
+void applySolverTable(const toml::table* t, const std::string& file, Scene& scene, const std::string& sceneFile,
+                      const std::string& sceneDir) {
+  if (!t) return;
+  TomlReader r(*t, file, "solver");
+  r.allowOnly({"integrator", "rtol", "atol", "step", "accuracy"});
+  toml::table& sceneSolver = *scene.doc.insert("solver", toml::table{}).first->second.as_table();
+  if (r.has("accuracy")) {  // the relative accuracy of the metrics: it chooses integrator and tolerances
+    const double a = r.positive("accuracy");
+    if (const std::string rule = accuracyRule(a); !rule.empty()) r.fail("accuracy", "value " + fmt(a) + " " + rule);
+    for (const char* k : {"integrator", "rtol", "atol"})
+      if (r.has(k)) r.fail(k, std::string("accuracy chooses integrator, rtol and atol: give either accuracy or ") + k);
+    for (const char* k : {"integrator", "rtol", "atol", "max_step"}) sceneSolver.erase(k);
+    sceneSolver.insert_or_assign("accuracy", a);
+  } else if (r.has("integrator") || r.has("rtol") || r.has("atol")) {
+    sceneSolver.erase("accuracy");  // the study's own integrator settings replace the scene's accuracy
+  }
+  if (r.has("integrator")) {
+    const std::string name = r.string("integrator");
+    IntegratorKind kind;
+    if (!integratorFromName(name, kind)) r.fail("integrator", "value '" + name + "' must be one of " + integratorNames());
+    sceneSolver.insert_or_assign("integrator", name);
+  }
+  if (r.has("rtol")) {
+    const double rtol = r.positive("rtol");
+    sceneSolver.insert_or_assign("rtol", rtol);
+    if (!r.has("atol")) sceneSolver.insert_or_assign("atol", rtol * 1e-2);
+  }
+  if (r.has("atol")) sceneSolver.insert_or_assign("atol", r.positive("atol"));
+  if (r.has("step")) sceneSolver.insert_or_assign("step", r.positive("step"));
+  std::string text = std::move(scene.text);  // the file it was read from: best.toml keeps its layout
+  scene = buildScene(scene.doc, sceneFile, sceneDir);
+  scene.text = std::move(text);
 }
 
 }  // namespace lg

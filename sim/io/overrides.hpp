@@ -28,6 +28,13 @@ Scene applyOverrides(const Scene& scene, const std::vector<ParameterOverride>& s
 // from outDir (absolute where no relative path leads there).
 void relocateTablePaths(toml::table& doc, const std::string& sceneDir, const std::string& outDir);
 
+// The [solver] table 't' of a study or calibration file (integrator, rtol, atol = rtol/100 unless given,
+// step; or accuracy, which chooses integrator and tolerances; absent: nothing) written into the scene's
+// own [solver], and the scene rebuilt with it: every design and the written scenes (best.toml,
+// calibrated.toml) run with those settings. Errors name 'file'.
+void applySolverTable(const toml::table* t, const std::string& file, Scene& scene, const std::string& sceneFile,
+                      const std::string& sceneDir);
+
 // The text of a written scene holding 'doc': the scene file's own text 'source' with only the changed
 // values replaced (sim/io/toml_rewrite.hpp), so that a diff against the scene shows the change alone;
 // where that cannot reproduce 'doc' exactly, the document written whole, after a comment saying why.

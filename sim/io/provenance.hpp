@@ -1,5 +1,5 @@
 // What was run, when, and on which inputs: the provenance block every program writes into its outputs
-// (README "Provenance"). The tool's version and commit are embedded at build time
+// (docs/commands.md, "Provenance"). The tool's version and commit are embedded at build time
 // (cmake/build_info.cmake: "unknown" outside a git checkout, "<sha>-modified" with uncommitted changes);
 // the date is UTC; the command line is the exact one; every input file is named with its SHA-256
 // (FIPS 180-4), so that a reviewer can match a report to the files it came from.

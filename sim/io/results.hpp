@@ -16,7 +16,7 @@ std::string historyHeader(const CaseResult& r);
 // The CSV of a recorded case: the header, then one row per sample (10 significant digits; round-off-
 // sized values, below 1e-12 of their column's largest, written as 0).
 std::string historyCsv(const CaseResult& r);
-// One case's metrics as a JSON object (README "Metrics").
+// One case's metrics as a JSON object (docs/metrics.md).
 std::string metricsJson(const CaseMetrics& m, const std::string& indent = "  ");
 // summary.json: the scene and every case's metrics (and their derivatives, when given).
 std::string summaryJson(const Scene& scene, const std::vector<CaseResult>& results,

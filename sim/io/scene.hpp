@@ -1,6 +1,6 @@
 // Scene files (TOML): bodies, joints, stops, force elements, solver settings and drop cases.
 // The parser validates at the edge: every error names the file, line, key, value and rule, and the
-// caller exits with status 2 before writing anything. See README.md, "Scene files".
+// caller exits with status 2 before writing anything. See docs/scene.md.
 #pragma once
 
 #include <cmath>
@@ -14,41 +14,13 @@
 
 #include <toml++/toml.h>
 
-#include "sim/core/state.hpp"
+#include "sim/model/state.hpp"
 #include "sim/envelope.hpp"
+#include "sim/input_error.hpp"
 
 namespace lg {
 
 struct Certification;  // sim/certification.hpp
-
-// Bad input: a message naming file, line, key and rule.
-class InputError : public std::runtime_error {
- public:
-  InputError(const std::string& file, int line, const std::string& key, const std::string& rule)
-      : std::runtime_error(format(file, line, key, rule)), file_(file), line_(line), key_(cut(key, kKeyChars)),
-        rule_(cut(rule, kRuleChars)) {}
-  const std::string& file() const { return file_; }
-  int line() const { return line_; }
-  const std::string& key() const { return key_; }
-  const std::string& rule() const { return rule_; }  // the words after "key '...': "
-  // "file:line: key 'k': rule"; a key or a rule that quotes a huge input is cut (an error is one
-  // readable line, never the input echoed).
-  static std::string format(const std::string& file, int line, const std::string& key, const std::string& rule) {
-    std::string s = cut(file, kRuleChars);
-    if (line > 0) s += ":" + std::to_string(line);
-    if (!key.empty()) s += ": key '" + cut(key, kKeyChars) + "'";
-    return s + ": " + cut(rule, kRuleChars);
-  }
-  static constexpr size_t kKeyChars = 80, kRuleChars = 480;
-  static std::string cut(const std::string& s, size_t n) {
-    return s.size() <= n ? s : s.substr(0, n - 20) + "... (" + std::to_string(s.size()) + " characters)";
-  }
-
- private:
-  std::string file_;
-  int line_;
-  std::string key_, rule_;
-};
 
 // A named drop test: every body starts with velocity (0, -sinkSpeed, 0) along -gravity, no rotation, at
 // the scene's positions (touchdown) or, from a height, dropHeight above them.

@@ -10,6 +10,8 @@
 #include <set>
 #include <sstream>
 
+#include "sim/model/model.hpp"
+
 namespace lg {
 namespace {
 int lineOfNode(const toml::node& n) { return static_cast<int>(n.source().begin.line); }

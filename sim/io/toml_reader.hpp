@@ -11,9 +11,11 @@
 #include <toml++/toml.h>
 
 #include "sim/core/math.hpp"
-#include "sim/io/scene.hpp"  // InputError
+#include "sim/input_error.hpp"
 
 namespace lg {
+
+template <class S> struct Model;  // sim/model/model.hpp
 
 // A number as the error messages write it (10 significant digits).
 std::string fmt(double v);

@@ -16,7 +16,7 @@
 #include <emmintrin.h>
 #endif
 
-#include "sim/core/state.hpp"
+#include "sim/model/state.hpp"
 
 namespace lg {
 

@@ -175,7 +175,7 @@ TEST_CASE("calibrate: the shipped example recovers the parameters its data were 
     const double z = (r.value[i] - value) / r.sd[i];
     std::printf("shipped: %-20s fitted %.8g +- %.3g, true %.8g: %+.2f sd\n", name.c_str(), r.value[i], r.sd[i], value, z);
     // The four changed parameters within 3 sd (they are within 1.4); the touchdown time lies 3.85 sd
-    // off with these seeds (README, "calibrate").
+    // off with these seeds (docs/calibrate.md).
     CHECK(std::abs(z) < (name == "limit_drop.t_shift" ? 4.0 : 3.0));
   }
   std::printf("shipped: s^2 = %.4f (%zu dof), %d iterations\n", r.s2, r.dof, r.iterations);

@@ -50,7 +50,7 @@ inline toml::table referenceDoc(const std::string& rel) {
   return doc;
 }
 
-// A shipped (planar) scene's document as a model in space: without [scene] plane_normal (README: Planar
+// A shipped (planar) scene's document as a model in space: without [scene] plane_normal (docs/scene.md: Planar
 // models). For the checks that lean on where the 3-D run's steps land (central differences between
 // neighbouring designs, a law that acts after the step holding a turning point) and for the elements a
 // planar model cannot hold (bearing friction).

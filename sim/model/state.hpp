@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "sim/constraints/row.hpp"
-#include "sim/core/model.hpp"
+#include "sim/model/model.hpp"
 
 namespace lg {
 

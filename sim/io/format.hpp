@@ -1,12 +1,12 @@
-// Number and field formats of the study outputs (CSV, gnuplot data, markdown): exact round trip for
-// data, 6 significant digits for people.
+// Number and field formats of the outputs (CSV, gnuplot data, markdown) of the studies, the sensitivity
+// reports and the calibration: exact round trip for data, 6 significant digits for people.
 #pragma once
 
 #include <cmath>
 #include <cstdio>
 #include <string>
 
-namespace lg::optim {
+namespace lg {
 
 // A CSV number with 17 significant digits (exact round trip); "nan" / "inf" where not finite.
 inline std::string exactNumber(double v) {
@@ -39,4 +39,4 @@ inline std::string csvField(const std::string& s) {
   return q + "\"";
 }
 
-}  // namespace lg::optim
+}  // namespace lg
