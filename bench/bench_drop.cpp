@@ -27,6 +27,7 @@
 #include "sim/accuracy.hpp"
 #include "sim/io/files.hpp"
 #include "sim/io/plots.hpp"
+#include "sim/io/scene.hpp"
 
 namespace {
 

@@ -35,6 +35,7 @@
 #include <toml++/toml.h>
 
 #include "sim/drop_test.hpp"
+#include "sim/input_error.hpp"
 #include "sim/metrics.hpp"
 #include "sim/servicing.hpp"
 

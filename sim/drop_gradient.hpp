@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "sim/drop_test.hpp"
+#include "sim/input_error.hpp"
 #include "sim/metrics.hpp"
 #include "sim/parameters.hpp"
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/io/scene.hpp"
+#include "sim/scene.hpp"
 #include "sim/hang.hpp"
 #include "sim/integrators.hpp"
 

@@ -20,7 +20,7 @@
 #include <cmath>
 
 #include "sim/engine.hpp"
-#include "sim/io/scene.hpp"
+#include "sim/scene.hpp"
 
 namespace lg {
 

@@ -8,7 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/io/scene.hpp"
+#include "sim/input_error.hpp"
+#include "sim/scene.hpp"
 
 namespace lg {
 

@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "sim/io/scene.hpp"
+#include "sim/scene.hpp"
 
 namespace lg {
 

@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/io/scene.hpp"
+#include "sim/scene.hpp"
 
 namespace lg {
 

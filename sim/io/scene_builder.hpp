@@ -15,7 +15,8 @@
 #include <toml++/toml.h>
 
 #include "sim/engine.hpp"
-#include "sim/io/scene.hpp"
+#include "sim/input_error.hpp"
+#include "sim/scene.hpp"
 #include "sim/io/toml_reader.hpp"
 
 namespace lg {

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "sim/accuracy.hpp"
+#include "sim/io/scene.hpp"
 #include "sim/io/scene_builder.hpp"
 
 namespace lg::detail {

@@ -8,6 +8,7 @@
 #include <utility>
 #include <variant>
 
+#include "sim/io/scene.hpp"
 #include "sim/io/scene_builder.hpp"
 
 namespace lg::detail {

@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "sim/io/csv_table.hpp"
+#include "sim/io/scene.hpp"
 #include "sim/io/scene_builder.hpp"
 
 namespace lg::detail {

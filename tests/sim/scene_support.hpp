@@ -17,6 +17,7 @@
 #include "sim/drop_test.hpp"
 #include "sim/engine.hpp"
 #include "sim/io/results.hpp"
+#include "sim/io/scene.hpp"
 
 #include <catch2/catch.hpp>
 
