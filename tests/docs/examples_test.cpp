@@ -6,7 +6,9 @@
 // build/bin the programs just built, out/ empty); every other line is a line the command prints (stdout
 // and stderr together), in any order. "[...]" stands for any text within a line (a wall time, a date),
 // and a line that is "[...]" alone for lines left out. A block with no command, or a command's shown
-// line that it does not print, fails with the page, the line and the output.
+// line that it does not print, fails with the page, the line and the output. The pages run in order
+// (README.md first, then docs/ by path) in one scratch root, so a page may use what an earlier one wrote
+// (docs/compare.md compares the tour's best.toml with the scene); a command writes under out/ only.
 
 #include <sys/wait.h>
 
