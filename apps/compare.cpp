@@ -1,11 +1,12 @@
 // compare A B [--case NAME]... [--out DIR] [--threads N] [--quiet]
-// Two designs side by side: the scene values that differ (A -> B), then every drop case the two scenes
-// share (or the named ones) run on each, with every metric of the catalogue (sim/metrics.hpp) as A, B,
-// B - A and the relative change. The usual pair is a scene and a study's optimum (data/seed_gear.toml
+// Two designs side by side: the scene values that differ (A -> B, in the order of B's file), then
+// every drop case the two scenes share (or the named ones) run on each, with every metric of the
+// catalogue (sim/metrics.hpp) as A, B, B - A and the relative change. The usual pair is a scene and a study's optimum (data/seed_gear.toml
 // and out/study/best.toml), or a scene and a variant of it. Writes DIR/compare.csv (one row per case and
 // metric) and DIR/compare.json (with the provenance block and the differing values).
 // Exit status: 0 done, 1 a case failed or an output could not be written, 2 bad input (nothing
 // written), 130 interrupted (nothing written).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -51,6 +52,7 @@ std::string shown(const toml::node& n) {
 
 struct Difference {
   std::string path, a, b;  // a or b "(absent)" where one scene lacks the key
+  int line = 0;            // where the value stands in B's file (A's where B lacks it): the order shown
 };
 
 // The values of two scene documents that differ, by path: the elements of [[body]], [[joint]], [[stop]],
@@ -89,7 +91,8 @@ void differences(const toml::node* a, const toml::node* b, const std::string& pa
     }
     return;
   }
-  out.push_back({path, a ? shown(*a) : "(absent)", b ? shown(*b) : "(absent)"});
+  out.push_back({path, a ? shown(*a) : "(absent)", b ? shown(*b) : "(absent)",
+                 static_cast<int>((b ? b : a)->source().begin.line)});
 }
 
 struct Row {
@@ -248,8 +251,15 @@ int main(int argc, char** argv) {
     std::cerr << "interrupted: nothing written\n";
     return lg::cli::kInterrupted;
   }
+  // The values that differ, in the order of B's file: the documents parsed again from the files' text
+  // (the scene's own copy of its document keeps no source positions).
   std::vector<Difference> diffs;
-  differences(&a.doc, &b.doc, "", diffs);
+  {
+    const toml::table da = toml::parse(std::string_view(a.text), std::string_view(a.file));
+    const toml::table db = toml::parse(std::string_view(b.text), std::string_view(b.file));
+    differences(&da, &db, "", diffs);
+    std::stable_sort(diffs.begin(), diffs.end(), [](const Difference& x, const Difference& y) { return x.line < y.line; });
+  }
 
   int failed = 0;
   for (std::size_t i = 0; i < names.size(); ++i)

@@ -73,7 +73,8 @@ TEST_CASE("compare: the differing values by path, and each metric's B - A exact"
   CHECK(out.find("scene values that differ (A -> B):\n") != std::string::npos);
   CHECK(out.find("  limit.sink_speed             3.05 -> 3.1\n") != std::string::npos);
   CHECK(out.find("  strut.f1                     7e-05 -> 8e-05\n") != std::string::npos);
-  CHECK(out.find("\ncase limit\n") < out.find("\ncase light\n"));  // in the order given
+  CHECK(out.find("  strut.f1 ") < out.find("  limit.sink_speed "));  // in the order of the file
+  CHECK(out.find("\ncase limit\n") < out.find("\ncase light\n"));  // the cases in the order given
   // A's figures are simulate's: the seed gear's limit drop peaks at 86253.7 N
   CHECK(out.find("  peak_load                    N            86253.7") != std::string::npos);
   const auto rows = csvRows(lgtest::readFile(dir / "o/compare.csv"));
