@@ -8,7 +8,7 @@
 // Usage: bench_drop [SCENE] [--case NAME] [--plot DIR] [--specialist PROGRAM] [--help] [--version]
 //   --plot DIR          DIR/accuracy_vs_time.{dat,gp,png} drawn by gnuplot
 //   --specialist PROG   also runs PROG --case <case> --rtol 1e-3 (the hand-derived reduced model of the seed
-//                       gear, ../shared/bench/specialist, built by the user) in the same go, and prints its
+//                       gear, kept outside the repository and built by the user) in the same go, and prints its
 //                       time per drop and the ratio of ours at 0.1 % to it; then five paired rounds (ours at
 //                       0.1 %, then the specialist) and the medians of their times and of their ratios
 #include <algorithm>
