@@ -13,6 +13,7 @@
 
 #include "sim/io/compliance.hpp"
 #include "sim/io/files.hpp"
+#include "sim/io/format.hpp"  // csvField
 #include "sim/io/plots.hpp"
 #include "sim/io/results.hpp"
 
@@ -36,17 +37,7 @@ std::string shortNum(double v, int digits = 6) {  // for people
   return b;
 }
 
-std::string csvQuote(const std::string& s) {
-  std::string q = "\"";
-  for (char ch : s) {
-    if (ch == '"') q += "\"\"";
-    else if (ch == '\n' || ch == '\r') q += ' ';
-    else q += ch;
-  }
-  return q + "\"";
-}
-
-// Splits one CSV line (quotes as written by csvQuote).
+// Splits one CSV line (quotes as written by csvField, sim/io/format.hpp).
 std::vector<std::string> csvSplit(const std::string& line) {
   std::vector<std::string> out;
   std::string cur;
@@ -436,7 +427,7 @@ std::string historyLine(const Study& s, const EvaluationRecord& r) {
   for (size_t k = 0; k < s.items.size(); ++k)  // every row has every field: a failed one too
     l += "," + num(e.ok && k < e.constraints.size() ? e.constraints[k] : NAN);
   l += std::string(",") + (r.feasible ? "1" : "0") + ",";
-  if (!e.ok) l += csvQuote(e.message.empty() ? "evaluation failed" : e.message);
+  if (!e.ok) l += csvField(e.message.empty() ? "evaluation failed" : e.message);
   return l;
 }
 
