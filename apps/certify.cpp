@@ -1,7 +1,7 @@
 // certify SCENE [--basis NAME] [--nominal] [--out DIR] [--plots] [--threads N] [--quiet]
-// Runs the certification drop-test matrix of a scene's [certification] table (sim/certification.hpp)
+// Runs the certification drop-test matrix of a scene's [certification] table (sim/drop/certification.hpp)
 // and the scene's own cases as checks, at every point of the scene's [envelope] where it declares one
-// (sim/envelope.hpp; --nominal: the nominal point only); writes DIR/compliance.json, DIR/compliance.md and, with
+// (sim/scene/envelope.hpp; --nominal: the nominal point only); writes DIR/compliance.json, DIR/compliance.md and, with
 // --plots, one picture per case with its limits drawn. Exit status: 0 every matrix case passes,
 // 1 a case fails (or an output could not be written), 2 bad input (nothing written), 130 interrupted.
 #include <chrono>
@@ -10,7 +10,7 @@
 #include <iostream>
 
 #include "apps/cli.hpp"
-#include "sim/certification.hpp"
+#include "sim/io/certification.hpp"
 #include "sim/io/compliance.hpp"
 #include "sim/io/files.hpp"
 #include "sim/io/plots.hpp"

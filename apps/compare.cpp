@@ -1,7 +1,7 @@
 // compare A B [--case NAME]... [--out DIR] [--threads N] [--quiet]
 // Two designs side by side: the scene values that differ (A -> B, in the order of B's file), then
 // every drop case the two scenes share (or the named ones) run on each, with every metric of the
-// catalogue (sim/metrics.hpp) as A, B, B - A and the relative change. The usual pair is a scene and a study's optimum (data/seed_gear.toml
+// catalogue (sim/drop/metrics.hpp) as A, B, B - A and the relative change. The usual pair is a scene and a study's optimum (data/seed_gear.toml
 // and out/study/best.toml), or a scene and a variant of it. Writes DIR/compare.csv (one row per case and
 // metric) and DIR/compare.json (with the provenance block and the differing values).
 // Exit status: 0 done, 1 a case failed or an output could not be written, 2 bad input (nothing
@@ -16,12 +16,13 @@
 
 #include "apps/cli.hpp"
 #include "sim/io/files.hpp"
-#include "sim/io/format.hpp"
+#include "sim/core/format.hpp"
 #include "sim/io/json.hpp"
 #include "sim/io/provenance.hpp"
 #include "sim/io/scene.hpp"
 #include "sim/io/toml_rewrite.hpp"  // tomlFloat, sameToml
-#include "sim/metrics.hpp"
+#include "sim/drop/metrics.hpp"
+#include "sim/drop/run.hpp"
 
 namespace {
 

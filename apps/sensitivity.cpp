@@ -24,7 +24,7 @@
 #include "optim/study.hpp"
 #include "sim/io/files.hpp"
 #include "sim/io/overrides.hpp"
-#include "sim/metrics.hpp"
+#include "sim/drop/metrics.hpp"
 #ifdef LG_HAVE_MPI
 #include "uq/mpi.hpp"
 #endif

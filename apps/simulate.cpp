@@ -19,16 +19,16 @@
 
 #include "apps/cli.hpp"
 #include "sim/io/provenance.hpp"
-#include "sim/accuracy.hpp"
+#include "sim/drop/accuracy.hpp"
 #include "sim/io/files.hpp"
 #include "sim/io/overrides.hpp"
 #include "sim/io/plots.hpp"
 #include "sim/io/results.hpp"
 #include "sim/io/toml_reader.hpp"  // lg::fmt
 #include "sim/io/work_precision.hpp"
-#include "sim/metrics.hpp"
-#include "sim/parameters.hpp"
-#include "sim/scene_check.hpp"
+#include "sim/drop/metrics.hpp"
+#include "sim/scene/parameters.hpp"
+#include "sim/scene/check.hpp"
 
 namespace {
 

@@ -16,10 +16,11 @@
 #include <vector>
 
 #include "apps/cli.hpp"
-#include "sim/accuracy.hpp"
+#include "sim/drop/accuracy.hpp"
+#include "sim/drop/run.hpp"
 #include "sim/io/overrides.hpp"
 #include "sim/io/scene.hpp"
-#include "sim/parameters.hpp"
+#include "sim/scene/parameters.hpp"
 
 namespace {
 

@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "apps/cli.hpp"
-#include "sim/accuracy.hpp"
+#include "sim/drop/accuracy.hpp"
 #include "sim/io/files.hpp"
 #include "sim/io/plots.hpp"
 #include "sim/io/scene.hpp"

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "apps/cli.hpp"
-#include "sim/integrators.hpp"
+#include "sim/engine/integrators.hpp"
 #include "sim/io/scene.hpp"
 
 namespace {

@@ -6,8 +6,9 @@
 #include <set>
 
 #include "sim/io/csv_table.hpp"
+#include "sim/io/drop_case.hpp"
 #include "sim/io/overrides.hpp"  // applySolverTable
-#include "sim/parameters.hpp"  // parameterUnit
+#include "sim/scene/parameters.hpp"  // parameterUnit
 #include "sim/io/files.hpp"
 #include "sim/io/toml_reader.hpp"
 
@@ -100,7 +101,7 @@ void parseParameters(const toml::table& doc, const std::string& file, Calibratio
 
 // The drop of a measurement: a scene case as is, a scene case with overrides, or an inline one.
 void parseCase(const TomlReader& r, const Calibration& c, Measurement& m) {
-  const bool overrides = r.has("sink_speed") || r.has("lift_ratio") || r.has("duration") || r.has("masses");
+  const bool overrides = !dropCaseKey(r).empty();
   if (r.has("case")) {
     const std::string name = r.string("case");
     std::string list;
@@ -114,29 +115,12 @@ void parseCase(const TomlReader& r, const Calibration& c, Measurement& m) {
     m.dropCase = c.scene.cases[static_cast<std::size_t>(m.sceneCase)];
     if (overrides) m.sceneCase = -1;  // its own drop now: the scene's case parameters no longer reach it
   } else {
-    if (!r.has("sink_speed"))
+    if (!r.has("sink_speed") && !r.has("drop_height"))
       r.fail("case", "missing: name a case of the scene (case = \"limit\") or give the drop inline (sink_speed, lift_ratio)");
     if (!r.has("lift_ratio")) r.fail("lift_ratio", "missing required number (an inline drop needs sink_speed and lift_ratio)");
     m.dropCase.name = m.name;
   }
-  if (r.has("sink_speed")) {
-    m.dropCase.sinkSpeed = r.number("sink_speed");
-    if (!(m.dropCase.sinkSpeed > 0)) r.fail("sink_speed", "value " + fmt(m.dropCase.sinkSpeed) + " must be > 0 [m/s]");
-  }
-  m.dropCase.liftRatio = r.nonNegative("lift_ratio", m.dropCase.liftRatio);
-  m.dropCase.duration = r.duration("duration", m.dropCase.duration);
-  if (m.dropCase.liftRatio > 0 && c.scene.roles.lifts.empty()) r.fail("lift_ratio", "the scene declares no lift element");
-  if (const toml::node* mn = r.get("masses")) {
-    const toml::table* mt = mn->as_table();
-    if (!mt) r.fail("masses", "must be a table of body = mass [kg]");
-    for (const auto& [k, v] : *mt) {
-      const std::string body(k.str());
-      if (c.scene.model.bodyIndex(body) < 0) r.fail("masses", "'" + body + "' is not a body of the scene");
-      const double mass = r.toNumber(v, "masses." + body);
-      if (!(mass > 0)) r.fail("masses", "mass of '" + body + "' " + fmt(mass) + " must be > 0 [kg]");
-      m.dropCase.masses[body] = mass;
-    }
-  }
+  readDropCase(r, c.scene, m.dropCase, !r.has("case"));  // (sim/io/drop_case.hpp)
 }
 
 // A table of channel = number (weights, sigma); each channel must be one of 'columns'.
@@ -289,8 +273,8 @@ void parseMeasurements(const toml::table& doc, const std::string& file, const st
   std::set<std::string> names;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     TomlReader r(*rows[i], file, "measurement[" + std::to_string(i) + "]");
-    r.allowOnly({"name", "file", "case", "sink_speed", "lift_ratio", "duration", "masses", "columns", "weights", "sigma",
-                 "t_shift", "t_shift_range"});
+    r.allowOnly({"name", "file", "case", "sink_speed", "drop_height", "lift_ratio", "duration", "forward_speed", "masses",
+                 "columns", "weights", "sigma", "t_shift", "t_shift_range"});
     Measurement m;
     m.line = r.line();
     m.file = resolve(baseDir, r.string("file"));

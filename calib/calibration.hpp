@@ -27,9 +27,9 @@
 #include <string>
 #include <vector>
 
-#include "sim/drop_test.hpp"
+#include "sim/drop/run.hpp"
 #include "sim/io/overrides.hpp"
-#include "sim/parameters.hpp"
+#include "sim/scene/parameters.hpp"
 
 namespace lg::calib {
 

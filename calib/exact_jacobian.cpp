@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <exception>
 
-#include "sim/drop_gradient.hpp"
+#include "sim/drop/gradient.hpp"
 
 namespace lg::calib {
 

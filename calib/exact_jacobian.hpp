@@ -1,5 +1,5 @@
 // The exact Jacobian of a calibration's residuals: forward-mode derivatives through the drop test
-// (ceres::Jet, sim/drop_gradient.hpp's caseHistoryGradient), the default of every fit.
+// (ceres::Jet, sim/drop/gradient.hpp's caseHistoryGradient), the default of every fit.
 //
 // A residual is w (y(t_i - t_shift; x) - y_i). For a sample after touchdown (t_s = t_i - t_shift > 0):
 //   dr/dx_j       = w dy/dx_j (t_s)            the history's derivative at the fixed time t_s

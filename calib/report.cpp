@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "sim/io/format.hpp"
+#include "sim/core/format.hpp"
 #include "sim/io/files.hpp"
 #include "sim/io/json.hpp"
 #include "sim/io/overrides.hpp"

@@ -35,7 +35,7 @@ struct Point {
 // The starting point: the parameters' initial values, each shift's known value or the middle of its range.
 Point initialPoint(const Calibration& c);
 
-// The scene of a design: the parameters set to x as data and the scene's rules checked (sim/parameters.hpp).
+// The scene of a design: the parameters set to x as data and the scene's rules checked (sim/scene/parameters.hpp).
 // Returns why the scene rejects it, or nothing.
 std::optional<std::string> designScene(const Calibration& c, const std::vector<double>& x, Scene& out);
 

@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "calib/residuals.hpp"
-#include "sim/drop_test.hpp"
+#include "sim/drop/run.hpp"
 
 namespace lg::calib {
 

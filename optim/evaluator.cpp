@@ -6,8 +6,8 @@
 #include <exception>
 #include <limits>
 
-#include "sim/drop_gradient.hpp"
-#include "sim/metrics.hpp"
+#include "sim/drop/gradient.hpp"
+#include "sim/drop/metrics.hpp"
 
 namespace lg::optim {
 namespace {
@@ -53,17 +53,33 @@ std::vector<double> constraintScales(const Study& s) {
   return k;
 }
 
-Evaluation reduceMetrics(const Study& s, std::vector<CaseMetrics> cases, double staticStroke) {
+const std::vector<CaseMetrics>& caseMetricsOf(const Evaluation& e) {
+  static const std::vector<CaseMetrics> none;
+  const auto* d = dynamic_cast<const CaseDetail*>(e.detail.get());
+  return d ? d->cases : none;
+}
+
+namespace {
+std::shared_ptr<const CaseDetail> caseDetail(std::vector<CaseMetrics> cases) {
+  auto d = std::make_shared<CaseDetail>();
+  d->cases = std::move(cases);
+  return d;
+}
+}  // namespace
+
+Evaluation reduceMetrics(const Study& s, std::vector<CaseMetrics> metrics, double staticStroke) {
   Evaluation e;
   e.staticStroke = staticStroke;
-  e.cases = std::move(cases);
+  const auto detail = caseDetail(std::move(metrics));
+  e.detail = detail;
+  const std::vector<CaseMetrics>& cases = detail->cases;
   const int steering = s.steeringCases();
-  if (static_cast<int>(e.cases.size()) < steering) {
-    e.message = "metrics of " + std::to_string(e.cases.size()) + " cases for " + std::to_string(steering) + " steering cases";
+  if (static_cast<int>(cases.size()) < steering) {
+    e.message = "metrics of " + std::to_string(cases.size()) + " cases for " + std::to_string(steering) + " steering cases";
     return e;
   }
   for (int i = 0; i < steering; ++i) {
-    const CaseMetrics& m = e.cases[i];
+    const CaseMetrics& m = cases[i];
     if (!m.ok) {
       e.message = "case '" + m.name + "': " + (m.message.empty() ? "simulation failed" : m.message);
       return e;
@@ -74,7 +90,7 @@ Evaluation reduceMetrics(const Study& s, std::vector<CaseMetrics> cases, double 
   double f = kNaN;
   for (int i = 0; i < steering; ++i) {
     if (s.cases[i].role != CaseRole::Objective) continue;
-    const double fi = peak ? e.cases[i].peak_load_N : e.cases[i].efficiency;
+    const double fi = peak ? cases[i].peak_load_N : cases[i].efficiency;
     if (s.objective.aggregate == Aggregate::Worst) e.terms.push_back(fi);
     if (s.objective.aggregate == Aggregate::WeightedSum) f = (std::isnan(f) ? 0.0 : f) + s.cases[i].weight * fi;
     else if (std::isnan(f)) f = fi;
@@ -84,7 +100,7 @@ Evaluation reduceMetrics(const Study& s, std::vector<CaseMetrics> cases, double 
   // Constraints g_j <= 0: one per spec and case.
   for (const auto& it : s.items) {
     const ConstraintSpec& c = s.constraints[it.spec];
-    const double v = it.caseIndex < 0 ? staticStroke : metricValue(e.cases[it.caseIndex], c.metric);
+    const double v = it.caseIndex < 0 ? staticStroke : metricValue(cases[it.caseIndex], c.metric);
     e.constraints.push_back(c.upper ? v - c.bound : c.bound - v);
   }
   e.ok = std::isfinite(e.objective);
@@ -119,7 +135,7 @@ Evaluation evaluateDesign(const Study& s, const std::vector<double>& x, const Ev
       ss = staticStroke(scene, &msg);
       if (!std::isfinite(ss)) {
         Evaluation ev;
-        ev.cases = metrics;
+        ev.detail = caseDetail(metrics);
         ev.message = "static stroke: " + (msg.empty() ? std::string("failed") : msg);
         if (results) *results = std::move(runs);
         return ev;
@@ -161,10 +177,11 @@ Evaluation evaluateDesignGradient(const Study& s, const std::vector<double>& x, 
     const std::string objectiveMetric = peak ? "peak_load" : "efficiency";
     e.objectiveGradient.assign(x.size(), 0.0);
     double worst = kNaN;
+    const std::vector<CaseMetrics>& values = caseMetricsOf(e);
     for (int i = 0; i < n; ++i) {
       if (s.cases[i].role != CaseRole::Objective) continue;
       const std::vector<double>& d = g[i].find(objectiveMetric)->d;
-      const double fi = peak ? e.cases[i].peak_load_N : e.cases[i].efficiency;
+      const double fi = peak ? values[i].peak_load_N : values[i].efficiency;
       if (s.objective.aggregate == Aggregate::WeightedSum) {
         for (size_t k = 0; k < d.size(); ++k) e.objectiveGradient[k] += s.cases[i].weight * d[k];
       } else {

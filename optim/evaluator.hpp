@@ -1,5 +1,5 @@
 // Evaluating one design of a study on the simulator: set the variables in the scene's model as data
-// (sim/parameters.hpp; no text edited or parsed), check the scene's rules, run the steering cases (OpenMP through lg::runCases; cases that differ only by name run once),
+// (sim/scene/parameters.hpp; no text edited or parsed), check the scene's rules, run the steering cases (OpenMP through lg::runCases; cases that differ only by name run once),
 // reduce the per-case metrics to the objective and the constraints in a fixed order (so results are
 // bitwise identical for any thread count).
 #pragma once
@@ -20,6 +20,13 @@ struct EvaluatorOptions {
   bool checks = false;             // also run the check cases (reports: every case of the study)
 };
 
+// A design's per-case metrics, in the order of Study::cases: the study's EvaluationDetail.
+struct CaseDetail : EvaluationDetail {
+  std::vector<CaseMetrics> cases;
+};
+// The per-case metrics an evaluation carries (empty when it carries none: cached, or failed before a run).
+const std::vector<CaseMetrics>& caseMetricsOf(const Evaluation& e);
+
 // The scene document with the variables set to x (physical units): best.toml's text.
 toml::table designDocument(const Study& s, const std::vector<double>& x);
 // The drop cases of a design, in the order of Study::cases: the steering cases, and with 'checks' the
@@ -39,7 +46,7 @@ Evaluation evaluateDesign(const Study& s, const std::vector<double>& x, const Ev
                           std::vector<CaseResult>* results = nullptr);
 
 // The same with the derivatives of the objective, its terms and every constraint with respect to the
-// variables (sim/drop_gradient.hpp: exact, forward mode; the values are the Jet run's, equal to the
+// variables (sim/drop/gradient.hpp: exact, forward mode; the values are the Jet run's, equal to the
 // double run's to round-off). Needs no static_stroke constraint.
 Evaluation evaluateDesignGradient(const Study& s, const std::vector<double>& x, const EvaluatorOptions& o);
 

@@ -11,6 +11,31 @@
 #include <nlopt.hpp>
 
 namespace lg::optim {
+
+bool nativeConstraints(const std::string& a) {
+  return a == "LN_COBYLA" || a == "GN_ISRES" || a == "GN_AGS" || a == "AUGLAG" || a == "LN_AUGLAG" ||
+         a == "AUGLAG_EQ" || a == "LN_AUGLAG_EQ" || a == "LD_SLSQP" || a == "LD_MMA" || a == "LD_CCSAQ";
+}
+
+double toPhysical(const Variable& v, double u) {
+  if (v.log) return std::exp(std::log(v.lower) + u * (std::log(v.upper) - std::log(v.lower)));
+  return v.lower + u * (v.upper - v.lower);
+}
+double toScaled(const Variable& v, double x) {
+  if (v.log) return (std::log(x) - std::log(v.lower)) / (std::log(v.upper) - std::log(v.lower));
+  return (x - v.lower) / (v.upper - v.lower);
+}
+std::vector<double> toPhysical(const std::vector<Variable>& vars, const std::vector<double>& u) {
+  std::vector<double> x(vars.size());
+  for (size_t i = 0; i < vars.size(); ++i) x[i] = toPhysical(vars[i], u[i]);
+  return x;
+}
+std::vector<double> toScaled(const std::vector<Variable>& vars, const std::vector<double>& x) {
+  std::vector<double> u(vars.size());
+  for (size_t i = 0; i < vars.size(); ++i) u[i] = std::clamp(toScaled(vars[i], x[i]), 0.0, 1.0);
+  return u;
+}
+
 namespace {
 
 bool startsWith(const std::string& s, const char* p) { return s.rfind(p, 0) == 0; }
@@ -203,7 +228,7 @@ void record(Context& c, const std::vector<double>& x, const Evaluation& e, bool 
   }
   if (c.obs && c.obs->onEvaluation) c.obs->onEvaluation(r);
   EvaluationRecord light = r;
-  light.evaluation.cases.clear();  // the history keeps numbers, not per-case detail
+  light.evaluation.detail.reset();  // the history keeps numbers, not the problem's detail
   c.out->history.push_back(std::move(light));
   c.out->evaluations = r.index;
 }

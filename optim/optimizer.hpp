@@ -30,14 +30,49 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
-#include "optim/study.hpp"
 
 namespace lg::optim {
 
 constexpr double kFailValue = 1e3;  // [-] scaled objective and constraints of a failed evaluation
+
+// One variable of a problem between bounds (a drop-test study: a numeric scene parameter).
+struct Variable {
+  std::string path;      // its name (a study: the scene parameter path, e.g. "strut.f1")
+  double lower = 0;      // [parameter units] lower bound
+  double upper = 0;      // [parameter units] upper bound (> lower)
+  double initial = 0;    // [parameter units] start value (default: the scene's value)
+  bool log = false;      // optimise log(value) (needs lower > 0)
+  int line = 0;          // where it was declared (a study: the line of its [[variable]] table)
+};
+
+// The optimiser works in scaled coordinates u in [0, 1]^n:
+//   linear: x = lower + u (upper - lower),   log: x = lower (upper/lower)^u.
+double toPhysical(const Variable& v, double u);
+double toScaled(const Variable& v, double x);
+std::vector<double> toPhysical(const std::vector<Variable>& vars, const std::vector<double>& u);
+std::vector<double> toScaled(const std::vector<Variable>& vars, const std::vector<double>& x);
+
+struct AlgorithmSettings {
+  std::string name = "LN_COBYLA";  // NLopt algorithm name (nlopt_algorithm_from_string)
+  std::string local;               // local optimiser of MLSL / AUGLAG (default LN_BOBYQA)
+  int maxeval = 200;               // [-] 0: no limit
+  double maxtime = 0;              // [s] 0: no limit
+  double xtolRel = 1e-4;           // [-] on the scaled variables
+  double ftolRel = 0;              // [-] 0: off
+  unsigned seed = 1;               // nlopt::srand(seed), always called
+  double penalty = 100;            // [-] exact-penalty weight (algorithms without native constraints)
+  double initialStep = 0;          // [-] initial step in scaled units (0: NLopt's default)
+};
+
+// What a problem keeps of an evaluation beside its numbers (a drop-test study: the metrics of every
+// case, optim/evaluator.hpp). The optimiser only carries it, and leaves it out of the history.
+struct EvaluationDetail {
+  virtual ~EvaluationDetail() = default;
+};
 
 // What one evaluation of a design returns (never throws).
 struct Evaluation {
@@ -45,7 +80,7 @@ struct Evaluation {
   std::string message;
   double objective = std::numeric_limits<double>::quiet_NaN();  // physical units
   std::vector<double> constraints;  // g_j in physical units; feasible when every g_j <= 0
-  std::vector<CaseMetrics> cases;   // per-case detail (simulator problems; empty when cached)
+  std::shared_ptr<const EvaluationDetail> detail;  // the problem's own detail (null when cached or none)
   double staticStroke = std::numeric_limits<double>::quiet_NaN();  // [m] when computed
   // The objective's terms f_i when it is their worst (Problem::worstOfTerms): the objective cases'.
   std::vector<double> terms;
@@ -113,6 +148,10 @@ struct OptimizationResult {
   double wallTime = 0;             // [s]
   std::vector<EvaluationRecord> history;  // x, objective, feasibility per evaluation (no case detail)
 };
+
+// True where NLopt handles inequality constraints itself (COBYLA, ISRES, AGS, AUGLAG family); the
+// other local algorithms run inside LN_AUGLAG, the global ones get an exact penalty (optimizer.hpp).
+bool nativeConstraints(const std::string& algorithm);
 
 enum class ConstraintHandling { None, Native, AugmentedLagrangian, Penalty };
 ConstraintHandling constraintHandling(const std::string& algorithm);  // for a problem with constraints

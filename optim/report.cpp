@@ -13,7 +13,7 @@
 
 #include "sim/io/compliance.hpp"
 #include "sim/io/files.hpp"
-#include "sim/io/format.hpp"  // csvField
+#include "sim/core/format.hpp"  // csvField
 #include "sim/io/plots.hpp"
 #include "sim/io/results.hpp"
 
@@ -37,7 +37,7 @@ std::string shortNum(double v, int digits = 6) {  // for people
   return b;
 }
 
-// Splits one CSV line (quotes as written by csvField, sim/io/format.hpp).
+// Splits one CSV line (quotes as written by csvField, sim/core/format.hpp).
 std::vector<std::string> csvSplit(const std::string& line) {
   std::vector<std::string> out;
   std::string cur;

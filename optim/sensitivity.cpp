@@ -1,8 +1,8 @@
 // Sensitivity studies on the simulator (sensitivity.hpp).
 #include "optim/sensitivity.hpp"
 
-#include "sim/drop_gradient.hpp"
-#include "sim/parameters.hpp"
+#include "sim/drop/gradient.hpp"
+#include "sim/scene/parameters.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -11,7 +11,7 @@
 
 #include "optim/evaluator.hpp"
 #include "sim/io/toml_reader.hpp"
-#include "sim/metrics.hpp"
+#include "sim/drop/metrics.hpp"
 #include "uq/random.hpp"
 
 namespace lg::optim {
@@ -142,7 +142,7 @@ uq::Outcome evaluateSensitivityDesign(const Study& s, const SensitivitySettings&
   const std::size_t nc = g.cases.size();
   out.y.assign(g.metrics.size() * nc, kNaN);
   try {
-    Scene scene = s.scene;  // the design as data (sim/parameters.hpp)
+    Scene scene = s.scene;  // the design as data (sim/scene/parameters.hpp)
     if (const auto why = applyParameters(scene, s.parameters, x)) {
       out.failure = "the scene rejects the design: " + *why;
       return out;

@@ -2,9 +2,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "sim/io/format.hpp"
+#include "sim/core/format.hpp"
 #include "optim/sensitivity_report.hpp"
-#include "sim/parameters.hpp"  // parameterUnit
+#include "sim/scene/parameters.hpp"  // parameterUnit
 #include "sim/io/json.hpp"
 
 namespace lg::optim {

@@ -7,11 +7,11 @@
 #include <filesystem>
 #include <sstream>
 
-#include "sim/io/format.hpp"
-#include "sim/parameters.hpp"  // parameterUnit
+#include "sim/core/format.hpp"
+#include "sim/scene/parameters.hpp"  // parameterUnit
 #include "sim/io/files.hpp"
 #include "sim/io/plots.hpp"
-#include "sim/metrics.hpp"
+#include "sim/drop/metrics.hpp"
 
 namespace fs = std::filesystem;
 

@@ -10,39 +10,17 @@
 #include <nlopt.h>
 
 #include "optim/optimizer.hpp"
-#include "sim/accuracy.hpp"
+#include "sim/drop/accuracy.hpp"
+#include "sim/io/certification.hpp"
+#include "sim/io/drop_case.hpp"
 #include "sim/io/files.hpp"
 #include "sim/io/toml_reader.hpp"
-#include "sim/metrics.hpp"
-#include "sim/scene_check.hpp"
+#include "sim/drop/metrics.hpp"
+#include "sim/scene/check.hpp"
 
 namespace lg::optim {
 
 // ---- scaling ---------------------------------------------------------------------------------------
-double toPhysical(const Variable& v, double u) {
-  if (v.log) return std::exp(std::log(v.lower) + u * (std::log(v.upper) - std::log(v.lower)));
-  return v.lower + u * (v.upper - v.lower);
-}
-double toScaled(const Variable& v, double x) {
-  if (v.log) return (std::log(x) - std::log(v.lower)) / (std::log(v.upper) - std::log(v.lower));
-  return (x - v.lower) / (v.upper - v.lower);
-}
-std::vector<double> toPhysical(const std::vector<Variable>& vars, const std::vector<double>& u) {
-  std::vector<double> x(vars.size());
-  for (size_t i = 0; i < vars.size(); ++i) x[i] = toPhysical(vars[i], u[i]);
-  return x;
-}
-std::vector<double> toScaled(const std::vector<Variable>& vars, const std::vector<double>& x) {
-  std::vector<double> u(vars.size());
-  for (size_t i = 0; i < vars.size(); ++i) u[i] = std::clamp(toScaled(vars[i], x[i]), 0.0, 1.0);
-  return u;
-}
-
-bool nativeConstraints(const std::string& a) {
-  return a == "LN_COBYLA" || a == "GN_ISRES" || a == "GN_AGS" || a == "AUGLAG" || a == "LN_AUGLAG" ||
-         a == "AUGLAG_EQ" || a == "LN_AUGLAG_EQ" || a == "LD_SLSQP" || a == "LD_MMA" || a == "LD_CCSAQ";
-}
-
 const char* roleName(CaseRole r) {
   switch (r) {
     case CaseRole::Objective: return "objective";
@@ -226,7 +204,7 @@ void parseCases(const toml::table& doc, const std::string& file, Study& s) {
   const Certification* cert = s.certification.get();
   for (size_t i = 0; i < rows.size(); ++i) {
     TomlReader r(*rows[i], file, "case[" + std::to_string(i) + "]");
-    r.allowOnly({"name", "role", "sink_speed", "lift_ratio", "duration", "masses", "weight"});
+    r.allowOnly({"name", "role", "weight", "sink_speed", "drop_height", "lift_ratio", "duration", "forward_speed", "masses"});
     StudyCase c;
     c.line = r.line();
     c.role = parseRole(r, "role", CaseRole::Objective);
@@ -238,19 +216,18 @@ void parseCases(const toml::table& doc, const std::string& file, Study& s) {
     for (const auto& sc : s.scene.cases)
       if (sc.name == name) sceneCase = &sc;
     const CertCase* certCase = cert ? cert->findCase(name) : nullptr;
-    const bool overrides = r.has("sink_speed") || r.has("lift_ratio") || r.has("duration") || r.has("masses");
+    const std::string overrides = dropCaseKey(r);  // the first drop key it sets
     if (certCase) {
-      if (overrides)
-        r.fail(r.has("sink_speed") ? "sink_speed" : r.has("lift_ratio") ? "lift_ratio" : r.has("duration") ? "duration" : "masses",
-               "'" + name + "' is a case of the certification matrix: its numbers come from [certification]; give a new "
+      if (!overrides.empty())
+        r.fail(overrides, "'" + name + "' is a case of the certification matrix: its numbers come from [certification]; give a new "
                "case its own name to change them");
       c.origin = CaseOrigin::Certification;
       c.dropCase = certDropCase(s.scene, *cert, *certCase);
     } else if (sceneCase) {
       c.dropCase = *sceneCase;
-      c.origin = overrides ? CaseOrigin::Study : CaseOrigin::Scene;
+      c.origin = overrides.empty() ? CaseOrigin::Scene : CaseOrigin::Study;
     } else {
-      if (!r.has("sink_speed")) {
+      if (!r.has("sink_speed") && !r.has("drop_height")) {
         std::string list;
         for (const auto& sc : s.scene.cases) list += (list.empty() ? "" : ", ") + sc.name;
         if (cert)
@@ -263,16 +240,7 @@ void parseCases(const toml::table& doc, const std::string& file, Study& s) {
       c.dropCase.name = name;
       c.origin = CaseOrigin::Study;
     }
-    if (r.has("sink_speed")) {
-      c.dropCase.sinkSpeed = r.number("sink_speed");
-      if (const std::string rule = sinkSpeedRule(c.dropCase.sinkSpeed); !rule.empty()) r.fail("sink_speed", rule);
-    }
-    c.dropCase.liftRatio = r.nonNegative("lift_ratio", c.dropCase.liftRatio);
-    if (const std::string rule = liftRatioRule(c.dropCase.liftRatio); !rule.empty()) r.fail("lift_ratio", rule);
-    c.dropCase.duration = r.duration("duration", c.dropCase.duration);
-    if (c.dropCase.liftRatio > 0 && s.scene.roles.lifts.empty())
-      r.fail("lift_ratio", "the scene declares no lift element");
-    r.masses("masses", s.scene.model, c.dropCase.masses);
+    readDropCase(r, s.scene, c.dropCase, !certCase && !sceneCase);  // (sim/io/drop_case.hpp)
     cases.push_back(c);
   }
   if (cert)

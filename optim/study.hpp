@@ -24,7 +24,7 @@
 // design, never steers. Every case of the scene and of its certification matrix that the study does not
 // name joins as a check, so a study's result is always shown on all of them.
 //
-// Constraints. Each [[constraint]] bounds a per-case metric (sim/metrics.hpp) on each case it names,
+// Constraints. Each [[constraint]] bounds a per-case metric (sim/drop/metrics.hpp) on each case it names,
 // one smooth NLopt inequality per case (no max over cases, no 0/1 step): g = value - max <= 0 or
 // g = min - value <= 0. "static_stroke" is a metric of the design (the strut settled under 1 g), not of
 // a case. The certification matrix (role "constraint") adds its limits on its cases: load factor within
@@ -39,29 +39,13 @@
 #include <string>
 #include <vector>
 
-#include "sim/certification.hpp"
-#include "sim/drop_test.hpp"
+#include "optim/optimizer.hpp"
+#include "sim/drop/certification.hpp"
+#include "sim/drop/run.hpp"
 #include "sim/io/overrides.hpp"
-#include "sim/parameters.hpp"
+#include "sim/scene/parameters.hpp"
 
 namespace lg::optim {
-
-// One design variable: a numeric scene parameter between bounds.
-struct Variable {
-  std::string path;      // scene parameter path, e.g. "strut.f1" (see lg::getParameter)
-  double lower = 0;      // [parameter units] lower bound
-  double upper = 0;      // [parameter units] upper bound (> lower)
-  double initial = 0;    // [parameter units] start value (default: the scene's value)
-  bool log = false;      // optimise log(value) (needs lower > 0)
-  int line = 0;          // line of the [[variable]] table in the study file
-};
-
-// The optimiser works in scaled coordinates u in [0, 1]^n:
-//   linear: x = lower + u (upper - lower),   log: x = lower (upper/lower)^u.
-double toPhysical(const Variable& v, double u);
-double toScaled(const Variable& v, double x);
-std::vector<double> toPhysical(const std::vector<Variable>& vars, const std::vector<double>& u);
-std::vector<double> toScaled(const std::vector<Variable>& vars, const std::vector<double>& x);
 
 enum class CaseRole { Objective, Constraint, Check };
 const char* roleName(CaseRole r);
@@ -114,18 +98,6 @@ struct ConstraintItem {
   std::string name;          // "stroke_margin@cert-reserve", "static_stroke"
 };
 
-struct AlgorithmSettings {
-  std::string name = "LN_COBYLA";  // NLopt algorithm name (nlopt_algorithm_from_string)
-  std::string local;               // local optimiser of MLSL / AUGLAG (default LN_BOBYQA)
-  int maxeval = 200;               // [-] 0: no limit
-  double maxtime = 0;              // [s] 0: no limit
-  double xtolRel = 1e-4;           // [-] on the scaled variables
-  double ftolRel = 0;              // [-] 0: off
-  unsigned seed = 1;               // nlopt::srand(seed), always called
-  double penalty = 100;            // [-] exact-penalty weight (algorithms without native constraints)
-  double initialStep = 0;          // [-] initial step in scaled units (0: NLopt's default)
-};
-
 // [sensitivity]: what `sensitivity` computes on the study's variables and ranges (optim/sensitivity.hpp).
 struct SensitivitySettings {
   bool local = true, morris = true, sobol = true;  // methods
@@ -143,7 +115,7 @@ struct SensitivitySettings {
 };
 
 // [envelope] of a study: where its cases run in the scene's servicing and temperature envelope
-// (sim/envelope.hpp), and any key of the scene's [envelope] to override.
+// (sim/scene/envelope.hpp), and any key of the scene's [envelope] to override.
 //   constraints = "corners" | "nominal"   the steering cases (and so every constraint) at every point of
 //                                          the envelope, or at the nominal point only
 //   objective = "nominal" | "worst"       the objective at the nominal point (its corner copies constrain),
@@ -185,7 +157,7 @@ struct Study {
   // The drop-test solver: the relative accuracy of the metrics the study's tolerances need (a tenth of the
   // smallest of xtol_rel and ftol_rel, within 1e-5 .. 1e-2), and the setting the study runs with, in
   // words, with why (reports and the terminal). Without a [solver] of its own the study keeps the
-  // scene's setting where that is accurate enough (sim/accuracy.hpp, impliedAccuracy), else it runs at
+  // scene's setting where that is accurate enough (sim/drop/accuracy.hpp, impliedAccuracy), else it runs at
   // the accuracy it needs (written into best.toml's [solver] as `accuracy`).
   double accuracyNeeded = 1e-5;
   std::string solverChoice;
@@ -200,9 +172,5 @@ Study loadStudy(const std::string& path, const std::vector<ParameterOverride>& s
 // 'file' names the text in messages; 'baseDir' resolves the scene path.
 Study parseStudy(const std::string& text, const std::string& file, const std::string& baseDir = ".",
                  const std::vector<ParameterOverride>& sets = {}, bool nominal = false);
-
-// True where NLopt handles inequality constraints itself (COBYLA, ISRES, AGS, AUGLAG family); the
-// other local algorithms run inside LN_AUGLAG, the global ones get an exact penalty (optimizer.hpp).
-bool nativeConstraints(const std::string& algorithm);
 
 }  // namespace lg::optim

@@ -26,7 +26,7 @@
 //                                    held by a stop: 0.
 //   alone (regularised)              F_f = mu (|N_u| + |N_l|) sgn_eps(sdot), sgn_eps(v) = v / sqrt(v^2 + eps^2)
 //
-// The reactions depend on the friction: the engine's stage bearingFriction (sim/engine.hpp) iterates
+// The reactions depend on the friction: the engine's stage bearingFriction (sim/engine/engine.hpp) iterates
 // F -> lambda -> F on the factor of the multipliers' solve, which contracts when mu times the lever ratio
 // of the joint is below 1; it stops at |dF| <= 1e-12 (1 + |F|), or at its round-off floor (|dF| <= 1e-9
 // (1 + |F|), no longer halving), and fails the evaluation (a failed run status, never an exception)

@@ -1,7 +1,7 @@
 // A constant force at the centre of mass of one body: the lift P_H on the airframe.
 // Stored energy (potential of a constant force) U = -F . r.
 // For a lift element, F = liftRatio * G * |g| along 'direction', with G the total mass of the
-// scene; the drop case sets liftRatio (see sim/drop_test.hpp, applyCase).
+// scene; the drop case sets liftRatio (see sim/drop/run.hpp, applyCase).
 #pragma once
 
 #include <string>

@@ -12,7 +12,7 @@
 // Events: x crossing 0 (contact, its end); with damping, k x + c x' crossing 0 (the clamp), continued
 // by c x' where x <= 0 (continuous at contact).
 // Outputs: F [N] and x [m] (the drop-test histories' F_<stop> and x_<stop>).
-// At a drop's release the gear hangs on its pads at rest (sim/hang.hpp): x = F/k with F the load the
+// At a drop's release the gear hangs on its pads at rest (sim/drop/hang.hpp): x = F/k with F the load the
 // rigid stop would carry there.
 #pragma once
 

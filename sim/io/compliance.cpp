@@ -11,7 +11,7 @@
 #include "sim/io/files.hpp"
 #include "sim/io/json.hpp"
 #include "sim/io/plots.hpp"
-#include "sim/metrics.hpp"
+#include "sim/drop/metrics.hpp"
 
 namespace lg {
 namespace {

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/certification.hpp"
+#include "sim/drop/certification.hpp"
 #include "sim/io/plots.hpp"
 
 namespace lg {

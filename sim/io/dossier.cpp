@@ -6,9 +6,9 @@
 #include <sstream>
 #include <vector>
 
-#include "sim/accuracy.hpp"
+#include "sim/drop/accuracy.hpp"
 #include "sim/io/json.hpp"
-#include "sim/parameters.hpp"
+#include "sim/scene/parameters.hpp"
 
 namespace lg {
 namespace {

@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "sim/certification.hpp"
+#include "sim/drop/certification.hpp"
 
 namespace lg {
 

@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "sim/accuracy.hpp"  // accuracyRule
+#include "sim/drop/accuracy.hpp"  // accuracyRule
 #include "sim/io/toml_reader.hpp"
 #include "sim/io/toml_rewrite.hpp"
 

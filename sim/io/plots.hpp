@@ -8,7 +8,7 @@
 #include <limits>
 #include <string>
 
-#include "sim/drop_test.hpp"
+#include "sim/drop/run.hpp"
 #include "sim/io/files.hpp"  // safeFileStem
 
 namespace lg {

@@ -1,6 +1,6 @@
 #include "sim/io/results.hpp"
 
-#include "sim/metrics.hpp"
+#include "sim/drop/metrics.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/drop_gradient.hpp"
-#include "sim/drop_test.hpp"
+#include "sim/drop/gradient.hpp"
+#include "sim/drop/run.hpp"
 #include "sim/io/json.hpp"
 
 namespace lg {

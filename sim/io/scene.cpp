@@ -2,7 +2,7 @@
 // buildScene runs the steps of a SceneBuilder (sim/io/scene_builder.hpp) in order: the top-level keys,
 // [scene], [solver], bodies, joints, stops, force elements (sim/io/scene_elements.cpp,
 // sim/io/scene_forces.cpp), then checks the initial positions against the joints and stops, reads the
-// cases, applies the scene's physical rules (sim/scene_check.hpp) and reads [certification]. The table
+// cases, applies the scene's physical rules (sim/scene/check.hpp) and reads [certification]. The table
 // readers are in sim/io/scene_tables.cpp, the parameter paths in sim/io/scene_parameters.cpp.
 #include "sim/io/scene.hpp"
 
@@ -11,11 +11,11 @@
 #include <filesystem>
 #include <set>
 
-#include "sim/certification.hpp"
-#include "sim/engine.hpp"
+#include "sim/io/certification.hpp"
+#include "sim/engine/engine.hpp"
 #include "sim/io/scene_builder.hpp"
 #include "sim/io/toml_reader.hpp"
-#include "sim/scene_check.hpp"
+#include "sim/scene/check.hpp"
 
 namespace lg {
 
@@ -155,7 +155,7 @@ void readInitialState(SceneBuilder& b) {
   impliedPlanarRows(m, sc.initial, w);  // (a planar model: the rows out of its mode from the start)
 }
 
-// Physical consistency (sim/scene_check.hpp, which also derives each strut's S_max), named at the
+// Physical consistency (sim/scene/check.hpp, which also derives each strut's S_max), named at the
 // key's line.
 void checkPhysics(Scene& sc, const toml::table& doc, const std::string& file) {
   if (const auto p = checkScene(sc)) {
@@ -190,9 +190,9 @@ Scene buildScene(const toml::table& doc, const std::string& file, const std::str
   b.readCases();
   // The rules, then the matrix, which needs each strut's S_max.
   checkPhysics(sc, doc, file);
-  // [envelope]: the servicing and temperature envelope (sim/envelope.hpp), checked at every corner.
+  // [envelope]: the servicing and temperature envelope (sim/scene/envelope.hpp), checked at every corner.
   if (const toml::table* t = tableOf(doc, "envelope", file)) sc.envelope = parseEnvelope(*t, file, sc);
-  // [certification]: the drop-test matrix of the rules (sim/certification.hpp).
+  // [certification]: the drop-test matrix of the rules (sim/drop/certification.hpp).
   if (const toml::table* t = tableOf(doc, "certification", file))
     sc.certification = std::make_shared<const Certification>(parseCertification(*t, file, sc));
   return sc;

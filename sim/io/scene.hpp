@@ -1,4 +1,4 @@
-// Reading scene files (TOML) into a Scene (sim/scene.hpp): bodies, joints, stops, force elements,
+// Reading scene files (TOML) into a Scene (sim/scene/scene.hpp): bodies, joints, stops, force elements,
 // solver settings and drop cases. The parser validates at the edge: every error names the file, line,
 // key, value and rule, and the caller exits with status 2 before writing anything. See docs/scene.md.
 #pragma once
@@ -14,8 +14,8 @@
 
 #include <toml++/toml.h>
 
-#include "sim/input_error.hpp"
-#include "sim/scene.hpp"
+#include "sim/core/input_error.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace lg {
 
@@ -33,7 +33,7 @@ Scene parseScene(const std::string& text, const std::string& file, const std::st
 Scene buildScene(const toml::table& doc, const std::string& file, const std::string& baseDir = ".");
 // Parses and validates an [envelope] table for 'scene' (its struts, tyres and S_max known): every key's
 // rule, and the nominal point, the scene's point and every corner run (no strut locks: envelopeProblem,
-// sim/scene_check.hpp). Throws InputError naming file, line and key (sim/io/scene_envelope.cpp).
+// sim/scene/check.hpp). Throws InputError naming file, line and key (sim/io/scene_envelope.cpp).
 Envelope parseEnvelope(const toml::table& t, const std::string& file, const Scene& scene);
 
 // Design-parameter paths "<element>.<key>" (e.g. "strut.f1", "tyre.K", "airframe.mass"): the element

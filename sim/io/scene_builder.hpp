@@ -14,9 +14,9 @@
 
 #include <toml++/toml.h>
 
-#include "sim/engine.hpp"
-#include "sim/input_error.hpp"
-#include "sim/scene.hpp"
+#include "sim/engine/engine.hpp"
+#include "sim/core/input_error.hpp"
+#include "sim/scene/scene.hpp"
 #include "sim/io/toml_reader.hpp"
 
 namespace lg {

@@ -5,9 +5,10 @@
 // Each reads its keys in a fixed order: that order decides which error a file with several gets first.
 #include <cmath>
 
-#include "sim/accuracy.hpp"
+#include "sim/drop/accuracy.hpp"
 #include "sim/io/scene.hpp"
 #include "sim/io/scene_builder.hpp"
+#include "sim/io/drop_case.hpp"
 
 namespace lg::detail {
 
@@ -233,26 +234,7 @@ void SceneBuilder::readCase(const toml::table& t, size_t i, std::set<std::string
   DropCase c;
   c.name = r.name("name");
   if (!caseNames.insert(c.name).second) r.fail("name", "case '" + c.name + "' is defined twice");
-  // A drop from a height: released drop_height above the touchdown positions at sink_speed (default 0),
-  // the gear hanging on its extension stop; it lands at touchdownSpeed. Else sink_speed is the touchdown's.
-  c.dropHeight = r.nonNegative("drop_height", 0.0);
-  c.sinkSpeed = r.has("drop_height") ? r.nonNegative("sink_speed", 0.0) : r.number("sink_speed");
-  c.liftRatio = r.nonNegative("lift_ratio", 0.0);
-  if (c.liftRatio > 0 && sc.roles.lifts.empty()) r.fail("lift_ratio", "the scene declares no lift element");
-  if (c.dropHeight > 0 && !hasGravity) r.fail("drop_height", "a drop from a height needs a gravity element");
-  if (c.dropHeight > 0 && !(touchdownSpeed(c, sc.gravity) > 0))
-    r.fail("drop_height", "the gear never reaches the ground: with lift_ratio " + fmt(c.liftRatio) +
-                              " >= 1 it does not fall, so a drop from a height needs sink_speed > 0");
-  // (default: 0.8 s after the touchdown of a rigid gear)
-  const double fall = c.dropHeight > 0 ? fallTime(c, sc.gravity) : 0.0;
-  c.duration = r.duration("duration", 0.8 + fall);
-  c.forwardSpeed = r.nonNegative("forward_speed", 0.0);
-  if (r.has("forward_speed")) {
-    bool friction = false;
-    for (int f : sc.roles.tyres) friction = friction || std::get<Tyre<double>>(m.forces[f].type).longitudinal;
-    if (!friction) r.fail("forward_speed", "no tyre of this scene declares the longitudinal friction coefficient mu_x");
-  }
-  r.masses("masses", m, c.masses);
+  readDropCase(r, sc, c, true);  // (sim/io/drop_case.hpp: the same keys and rules as a study's and a calibration's)
   sc.cases.push_back(c);
 }
 

@@ -1,4 +1,4 @@
-// The [envelope] table of a scene (declared in sim/io/scene.hpp; the physics in sim/envelope.hpp):
+// The [envelope] table of a scene (declared in sim/io/scene.hpp; the physics in sim/scene/envelope.hpp):
 //
 //   [envelope]
 //   service_temperature_C = 15.0             # [C] gas temperature at which the pre-charge is set (default 15)
@@ -19,7 +19,7 @@
 
 #include "sim/io/scene.hpp"
 #include "sim/io/toml_reader.hpp"
-#include "sim/scene_check.hpp"
+#include "sim/scene/check.hpp"
 
 namespace lg {
 namespace {

@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "sim/io/scene.hpp"
-#include "sim/engine.hpp"
+#include "sim/engine/engine.hpp"
 
 namespace lg {
 

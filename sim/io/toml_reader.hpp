@@ -11,7 +11,7 @@
 #include <toml++/toml.h>
 
 #include "sim/core/math.hpp"
-#include "sim/input_error.hpp"
+#include "sim/core/input_error.hpp"
 
 namespace lg {
 

@@ -1,4 +1,4 @@
-// Writing work-precision results (sim/accuracy.hpp): a CSV table, a terminal table, and per case a
+// Writing work-precision results (sim/drop/accuracy.hpp): a CSV table, a terminal table, and per case a
 // gnuplot picture of the errors of peak load, stroke and travel against the time per drop.
 #pragma once
 
@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/accuracy.hpp"
+#include "sim/drop/work_precision.hpp"
 
 namespace lg {
 

@@ -38,7 +38,7 @@ struct Settings {
   double accuracy = 0;                // [-] the relative accuracy these settings were chosen for (applyAccuracy), 0: none
   // [-] > 0: a dopri5 run that finds itself stiff (Hairer's test: h |lambda| at its stability bound on 15
   // steps with fewer than 6 between them that are not) goes on with ros34pw2 at this rtol (atol rtol / 100),
-  // from the step that showed it (sim/integration/stiffness.hpp). 0: dopri5 to the end.
+  // from the step that showed it (sim/engine/integration/stiffness.hpp). 0: dopri5 to the end.
   double stiffSwitchRtol = 0;
   bool eliminateGroundJoints = true;  // a body's prismatic or fixed joint to the ground restricts its
                                       // mobility instead of adding rows (exact; see Model::finalize)

@@ -7,7 +7,7 @@
 #include <csignal>
 #include <cstdio>
 
-#include "sim/drop_test.hpp"
+#include "sim/drop/run.hpp"
 #include "sim/io/provenance.hpp"
 
 using namespace calibtest;

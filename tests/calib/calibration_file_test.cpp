@@ -138,7 +138,11 @@ TEST_CASE("calibration files: mistakes in the calibration file name its line and
        {"cfg", 10, "measurement[0].t_shift_range", "must be greater than lower"}},
       {kSigma + "\ncolums = 1", kF1, {"cfg", 9, "measurement[0].colums", "unknown key"}},
       {kSigma + "\ncase = \"nope\"", kF1, {"cfg", 9, "measurement[0].case", "not a case of the scene"}},
-      {kSigma + "\nmasses = { nobody = 3.0 }", kF1, {"cfg", 9, "measurement[0].masses", "'nobody' is not a body"}},
+      {kSigma + "\nmasses = { nobody = 3.0 }", kF1, {"cfg", 9, "measurement[0].masses.nobody", "'nobody' is not a body"}},
+      // the drop's keys by the scene's reader and rules (sim/io/drop_case.hpp)
+      {kSigma + "\nforward_speed = 10.0", kF1,
+       {"cfg", 9, "measurement[0].forward_speed", "no tyre of this scene declares the longitudinal friction coefficient mu_x"}},
+      {kSigma + "\ndrop_height = -0.1", kF1, {"cfg", 9, "measurement[0].drop_height", "value -0.1 must be >= 0"}},
       {kSigma, kF1 + "[fit]\nloss = \"l2\"\n", {"cfg", 14, "fit.loss", "must be \"none\", \"huber\""}},
       {kSigma, kF1 + "[fit]\njacobian = \"central\"\njacobian_step = 0.5\n", {"cfg", 15, "fit.jacobian_step", "must be <= 0.1"}},
       {kSigma, kF1 + "[fit]\nloss_scale = 2.0\n", {"cfg", 14, "fit.loss_scale", "only with a robust loss"}},

@@ -10,7 +10,7 @@
 
 #include "calib/exact_jacobian.hpp"
 #include "calib/residuals.hpp"
-#include "sim/drop_test.hpp"
+#include "sim/drop/run.hpp"
 
 using namespace calibtest;
 

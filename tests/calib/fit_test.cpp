@@ -9,7 +9,7 @@
 
 #include "calib/report.hpp"
 #include "calib/residuals.hpp"
-#include "sim/drop_test.hpp"
+#include "sim/drop/run.hpp"
 
 using namespace calibtest;
 using lg::calib::FitResult;

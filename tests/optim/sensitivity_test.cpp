@@ -16,8 +16,8 @@
 #include "optim/sensitivity.hpp"
 #include "optim/sensitivity_report.hpp"
 #include "optim/study.hpp"
-#include "sim/certification.hpp"
-#include "sim/metrics.hpp"
+#include "sim/drop/certification.hpp"
+#include "sim/drop/metrics.hpp"
 
 #include "files_support.hpp"  // TempDir, readFile, writeFile
 

@@ -13,7 +13,7 @@
 #include "optim/evaluator.hpp"
 #include "optim/report.hpp"
 #include "optim/study.hpp"
-#include "sim/drop_gradient.hpp"
+#include "sim/drop/gradient.hpp"
 
 #include "docs_support.hpp"   // docsText
 #include "files_support.hpp"  // TempDir, readFile, writeFile
@@ -86,7 +86,8 @@ TEST_CASE("study run: a design evaluates to the same bits on 1, 2 and 3 threads"
     CHECK(sameBits(e.objective, e1.objective));
     REQUIRE(e.constraints.size() == e1.constraints.size());
     for (size_t k = 0; k < e.constraints.size(); ++k) CHECK(sameBits(e.constraints[k], e1.constraints[k]));
-    for (size_t i = 0; i < e.cases.size(); ++i) requireSameMetrics(e.cases[i], e1.cases[i]);
+    REQUIRE(caseMetricsOf(e).size() == caseMetricsOf(e1).size());
+    for (size_t i = 0; i < caseMetricsOf(e).size(); ++i) requireSameMetrics(caseMetricsOf(e)[i], caseMetricsOf(e1)[i]);
   }
 }
 
@@ -224,7 +225,7 @@ TEST_CASE("study run: --resume reuses the history without simulating again", "[o
   CHECK(sameBits(r2.opt.best.objective, r1.opt.best.objective));
 }
 
-// Designs are set as data in the model (sim/parameters.hpp), not as edited text: the results are the
+// Designs are set as data in the model (sim/scene/parameters.hpp), not as edited text: the results are the
 // bits a scene rebuilt from the edited document gives, and the scene's rules still reject a bad design.
 TEST_CASE("study run: a design set as data runs the bits of the rebuilt scene", "[optim][seed][parameters]") {
   const Study s = shippedStudy(0);
@@ -236,8 +237,8 @@ TEST_CASE("study run: a design set as data runs the bits of the rebuilt scene", 
   REQUIRE(e.ok);
   const lg::Scene rebuilt = lg::buildScene(designDocument(s, x), s.sceneFile, s.sceneDir);
   const auto runs = lg::runCases(rebuilt, designCases(s, rebuilt, false), 2);
-  REQUIRE(runs.size() == e.cases.size());
-  for (size_t i = 0; i < runs.size(); ++i) requireSameMetrics(runs[i].metrics, e.cases[i]);
+  REQUIRE(runs.size() == caseMetricsOf(e).size());
+  for (size_t i = 0; i < runs.size(); ++i) requireSameMetrics(runs[i].metrics, caseMetricsOf(e)[i]);
   // the gas volume below the volume swept at the bottoming stroke: rejected with the scene's own rule
   std::vector<double> bad = x;
   bad[3] = 1.2e-3;
@@ -265,8 +266,8 @@ TEST_CASE("study run: the metering pin's samples as variables, best.toml's table
   CHECK(lg::getParameter(doc, "strut.f1_table[16]") == 4.4e-5);
   const lg::Scene rebuilt = lg::buildScene(doc, s.sceneFile, s.sceneDir);
   const auto runs = lg::runCases(rebuilt, designCases(s, rebuilt, false), 2);
-  REQUIRE(runs.size() == e.cases.size());
-  for (size_t i = 0; i < runs.size(); ++i) requireSameMetrics(runs[i].metrics, e.cases[i]);
+  REQUIRE(runs.size() == caseMetricsOf(e).size());
+  for (size_t i = 0; i < runs.size(); ++i) requireSameMetrics(runs[i].metrics, caseMetricsOf(e)[i]);
 }
 
 // The main study with exact derivatives: SLSQP reaches at least the derivative-free result (within
@@ -404,7 +405,8 @@ TEST_CASE("study run: a robust design evaluates to the same bits on 1 and 2 thre
   REQUIRE(e1.constraints.size() == 153);
   CHECK(sameBits(e1.objective, e2.objective));
   for (size_t k = 0; k < e1.constraints.size(); ++k) CHECK(sameBits(e1.constraints[k], e2.constraints[k]));
-  for (size_t i = 0; i < e1.cases.size(); ++i) requireSameMetrics(e1.cases[i], e2.cases[i]);
+  REQUIRE(caseMetricsOf(e1).size() == caseMetricsOf(e2).size());
+  for (size_t i = 0; i < caseMetricsOf(e1).size(); ++i) requireSameMetrics(caseMetricsOf(e1)[i], caseMetricsOf(e2)[i]);
   const Evaluation g = evaluateDesignGradient(s, x, o2);
   REQUIRE(g.ok);
   REQUIRE(g.hasGradient);

@@ -474,3 +474,26 @@ TEST_CASE("study: the drop-test solver is accurate enough for the study's tolera
               "give either accuracy or rtol");
   expectError("acc_range.cfg", onLoose("[solver]\naccuracy = 0.5\n"), 18, "solver.accuracy", "between 1e-05 and 0.1");
 }
+
+TEST_CASE("study cases: a study's [[case]] reads a drop by the scene's keys and rules", "[study]") {
+  const std::string head = "scene = \"" + std::string(LG_SOURCE_DIR) +
+                           "/data/seed_gear.toml\"\n[[variable]]\npath = \"strut.f1\"\nlower = 3e-5\nupper = 1.6e-4\n";
+  // a new case released from a height: at rest, 0.8 s past its fall (sim/io/drop_case.hpp)
+  const Study s = parseStudy(head + "[[case]]\nname = \"from-height\"\ndrop_height = 0.3\nlift_ratio = 0.0\n", "s.cfg");
+  REQUIRE(s.cases.size() > 1);
+  const lg::DropCase& d = s.cases[0].dropCase;
+  CHECK(d.name == "from-height");
+  CHECK(s.cases[0].origin == CaseOrigin::Study);
+  CHECK(d.dropHeight == 0.3);
+  CHECK(d.sinkSpeed == 0);
+  CHECK(d.duration == Approx(0.8 + std::sqrt(2 * 0.3 / s.scene.gravity)).epsilon(1e-15));
+  // the scene's rules, in the scene's words, at the study's line
+  CHECK_THROWS_WITH(parseStudy(head + "[[case]]\nname = \"x\"\nsink_speed = 0.0\nlift_ratio = 0.0\n", "s.cfg"),
+                    Catch::StartsWith("s.cfg:8: key 'case[0].sink_speed': value 0 must be > 0 [m/s]"));
+  CHECK_THROWS_WITH(parseStudy(head + "[[case]]\nname = \"x\"\nsink_speed = 3.0\nlift_ratio = 0.0\nforward_speed = 5.0\n", "s.cfg"),
+                    "s.cfg:10: key 'case[0].forward_speed': no tyre of this scene declares the longitudinal friction "
+                    "coefficient mu_x");
+  // a matrix case's numbers come from [certification], a forward speed among them
+  CHECK_THROWS_WITH(parseStudy(head + "[[case]]\nname = \"cert-reserve\"\nforward_speed = 1.0\n", "s.cfg"),
+                    Catch::StartsWith("s.cfg:8: key 'case[0].forward_speed': 'cert-reserve' is a case of the certification matrix"));
+}

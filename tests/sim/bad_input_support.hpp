@@ -1,5 +1,5 @@
 // Bad scene files for the element tests: each must give one InputError naming the file, the line, the key
-// and the rule, and `simulate` on it must exit with status 2 and write nothing (as tests/sim/scene_test.cpp
+// and the rule, and `simulate` on it must exit with status 2 and write nothing (as tests/sim/io/scene_test.cpp
 // checks for the scene's own keys).
 #pragma once
 

@@ -4,7 +4,7 @@
 #include <array>
 
 #include "sim/core/jet.hpp"
-#include "sim/drop_test.hpp"
+#include "sim/drop/run.hpp"
 #include "sim/io/overrides.hpp"
 #include "tests/sim/bad_input_support.hpp"
 #include "tests/sim/engine_support.hpp"

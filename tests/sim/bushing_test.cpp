@@ -7,7 +7,7 @@
 
 #include "sim/core/jet.hpp"
 #include "sim/forces/bushing.hpp"
-#include "sim/parameters.hpp"
+#include "sim/scene/parameters.hpp"
 #include "tests/sim/bad_input_support.hpp"
 #include "tests/sim/engine_support.hpp"
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/integrators.hpp"
+#include "sim/engine/integrators.hpp"
 #include "sim/io/scene.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// Plausibility (sim/scene_check.cpp): values that are legal numbers but no gear, most often a unit
+// Plausibility (sim/scene/check.cpp): values that are legal numbers but no gear, most often a unit
 // mistake, are refused with the file, line, key and rule (exit 2, nothing written): a tyre limit at or
 // above its radius, a metering-pin table in mm, a sink speed above 10 m/s (in a scene, a study and on
 // the command line), a lift ratio above 1.5; and a run that ends before its compression is EXCEEDED.

@@ -14,8 +14,8 @@
 #include <string>
 
 #include "files_support.hpp"  // sourcePath, binPath, readFile, writeFile, TempDir
-#include "sim/drop_test.hpp"
-#include "sim/engine.hpp"
+#include "sim/drop/run.hpp"
+#include "sim/engine/engine.hpp"
 #include "sim/io/results.hpp"
 #include "sim/io/scene.hpp"
 

@@ -5,7 +5,7 @@
 
 #include "reference/reduced_seed_gear.hpp"
 #include "sim/io/overrides.hpp"
-#include "sim/parameters.hpp"
+#include "sim/scene/parameters.hpp"
 #include "reference/reduced_telescopic.hpp"
 
 using lgtest::relDiff;

@@ -1,4 +1,4 @@
-// The elastic extension stop (sim/forces/stop_pad.hpp) and the hang at the release (sim/hang.hpp): a mass
+// The elastic extension stop (sim/forces/stop_pad.hpp) and the hang at the release (sim/drop/hang.hpp): a mass
 // caught by a damped pad against the closed-form oscillator, the gear hanging on its pad under the gas
 // preload against the closed form, a drop from a height that lands with the gear at rest on its pad, the
 // rebound onto the pad with the energy balance closed, and bad input.

@@ -98,6 +98,11 @@ TEST_CASE("include rules: the project's tree holds its own rules", "[tools][incl
   const auto rep = lg::tools::checkIncludes(LG_SOURCE_DIR, {"apps", "bench", "calib", "optim", "sim", "tools", "uq"}, r);
   for (const auto& p : rep.problems) FAIL_CHECK(p);
   CHECK(rep.files > 150);
+  // Every debt is paid: an include that breaks a rule is an error, never a new debt.
+  for (const auto& d : rep.debts) FAIL_CHECK("debt owed: " << d);
+  // Each layer of the simulator is a folder: no source sits loose in sim/ (the "sim/*" of no layer).
+  for (const auto& e : std::filesystem::directory_iterator(lgtest::sourcePath("sim")))
+    if (e.is_regular_file()) FAIL_CHECK("a source outside the layers: sim/" << e.path().filename().string());
   std::printf("include rules: %d files, %d includes, %d rules, %zu debts owed\n", rep.files, rep.includes, never,
               rep.debts.size());
 }

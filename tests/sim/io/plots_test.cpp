@@ -3,7 +3,7 @@
 // once cut the return); the reserve drop's figure draws the ultimate load, not the limit load.
 #include "../scene_support.hpp"  // sim headers, then Catch (see there)
 
-#include "sim/certification.hpp"
+#include "sim/drop/certification.hpp"
 #include "sim/io/compliance.hpp"
 #include "sim/io/plots.hpp"
 
