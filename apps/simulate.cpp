@@ -50,33 +50,21 @@ lg::Scene loadInputs(const Options& o, const CLI::App& app, std::vector<lg::Drop
   std::vector<lg::ParameterOverride> sets;
   for (const auto& s : o.sets) sets.push_back(lg::parseOverride(s));
   lg::Scene scene = lg::applyOverrides(lg::loadScene(o.scene), sets);
-  // Solver overrides, checked like the scene's own keys.
-  lg::Settings& cfg = scene.model.settings;
+  // Solver overrides: the one rule of a study's or a calibration's [solver] (sim/drop/accuracy.hpp).
   // (each number is > 0 and finite already: its declaration in addOptions states the rule)
-  if (!o.integrator.empty() || app.count("--rtol") || app.count("--atol")) {
-    cfg.accuracy = 0;  // the command line's integrator settings replace the scene's [solver] accuracy
-    cfg.stiffSwitchRtol = 0;
+  lg::SolverOverrides so;
+  if (!o.integrator.empty()) {
+    lg::IntegratorKind kind;
+    lg::integratorFromName(o.integrator, kind);  // (one of the names: addChoice)
+    so.integrator = kind;
   }
-  if (!o.integrator.empty()) lg::integratorFromName(o.integrator, cfg.integrator);  // (one of the names: addChoice)
-  if (app.count("--rtol")) {
-    if (!(o.rtol < 1)) throw lg::InputError("command line", 0, "--rtol", "value " + lg::fmt(o.rtol) + " must be < 1 (a relative tolerance)");
-    cfg.rtol = o.rtol;
-    cfg.atol = o.rtol * 1e-2;
-  }
-  if (app.count("--atol")) {
-    cfg.atol = o.atol;
-  }
-  if (app.count("--step")) {
-    cfg.step = o.step;
-  }
-  if (app.count("--accuracy")) {
-    if (const std::string rule = lg::accuracyRule(o.accuracy); !rule.empty())
-      throw lg::InputError("command line", 0, "--accuracy", "value " + lg::fmt(o.accuracy) + " " + rule);
-    for (const char* flag : {"--integrator", "--rtol", "--atol"})
-      if (app.count(flag))
-        throw lg::InputError("command line", 0, flag, "--accuracy chooses integrator and tolerances: give one or the other");
-    lg::applyAccuracy(cfg, o.accuracy);
-  }
+  if (app.count("--rtol")) so.rtol = o.rtol;
+  if (app.count("--atol")) so.atol = o.atol;
+  if (app.count("--step")) so.step = o.step;
+  if (app.count("--accuracy")) so.accuracy = o.accuracy;
+  if (const auto problem = lg::solverOverridesProblem(so, "--"))
+    throw lg::InputError("command line", 0, problem->first, problem->second);
+  lg::applySolverOverrides(scene.model.settings, so);
   if (o.workPrecision && !o.gradient.empty())
     throw lg::InputError("command line", 0, "--gradient", "--work-precision runs no gradient: give one or the other");
   // The cases: a sink-speed / lift matrix, the named scene cases, or every case of the scene.

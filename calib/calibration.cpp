@@ -350,7 +350,7 @@ Calibration parseCalibration(const std::string& text, const std::string& file, c
     if (c.sceneDir.empty()) c.sceneDir = ".";
     c.scene = applyOverrides(loadScene(c.sceneFile), sets);  // its own errors name the scene file
   }
-  applySolverTable(tableOf(doc, "solver", file), file, c.scene, c.sceneFile, c.sceneDir);
+  applySolverTable(tableOf(doc, "solver", file), file, c.scene);
   parseParameters(doc, file, c);
   parseFit(doc, file, c);
   parseMeasurements(doc, file, baseDir, c);

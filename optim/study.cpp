@@ -558,7 +558,7 @@ void chooseSolver(bool studySolver, Study& s) {
     s.solverChoice = describeSolver(cfg) + ": the scene's [solver], " + haveWords + ", within the " + need;
   } else {
     const std::string old = describeSolver(cfg);
-    applyAccuracy(cfg, s.accuracyNeeded);
+    applySolverOverrides(cfg, SolverOverrides{.accuracy = s.accuracyNeeded});
     toml::table& sceneSolver = *s.scene.doc.insert("solver", toml::table{}).first->second.as_table();
     for (const char* k : {"integrator", "rtol", "atol", "max_step"}) sceneSolver.erase(k);
     sceneSolver.insert_or_assign("accuracy", s.accuracyNeeded);
@@ -599,7 +599,7 @@ Study parseStudy(const std::string& text, const std::string& file, const std::st
 
   // [solver]: the study's own integrator settings, written into the scene's [solver] so that every
   // design, the baseline and best.toml run with them (a fast, looser setting for long studies).
-  applySolverTable(tableOf(doc, "solver", file), file, s.scene, s.sceneFile, s.sceneDir);
+  applySolverTable(tableOf(doc, "solver", file), file, s.scene);
 
   parseCertificationTable(doc, file, s);
   parseEnvelopeTable(doc, file, s, nominal);

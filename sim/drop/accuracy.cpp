@@ -1,6 +1,8 @@
 // Accuracy on demand (sim/drop/accuracy.hpp).
 #include "sim/drop/accuracy.hpp"
 
+#include "sim/core/format.hpp"  // shortNumber
+
 #include <limits>
 
 #include <algorithm>
@@ -174,6 +176,46 @@ void applyAccuracy(Settings& s, double accuracy) {
   s.maxStep = a.maxStep;
   s.stiffSwitchRtol = a.stiffSwitchRtol;
   s.accuracy = accuracy;
+}
+
+std::optional<std::pair<std::string, std::string>> solverOverridesProblem(const SolverOverrides& o,
+                                                                         const std::string& prefix) {
+  if (o.accuracy) {
+    if (const std::string rule = accuracyRule(*o.accuracy); !rule.empty())
+      return std::make_pair(prefix + "accuracy", "value " + shortNumber(*o.accuracy, 10) + " " + rule);
+    const std::pair<bool, const char*> chosen[] = {{o.integrator.has_value(), "integrator"}, {o.rtol.has_value(), "rtol"},
+                                                   {o.atol.has_value(), "atol"}};
+    for (const auto& [given, k] : chosen)
+      if (given)
+        return std::make_pair(prefix + k, prefix + "accuracy chooses integrator, rtol and atol: give either " + prefix +
+                                              "accuracy or " + prefix + k);
+  }
+  if (o.rtol && !(*o.rtol < 1))
+    return std::make_pair(prefix + "rtol", "value " + shortNumber(*o.rtol, 10) + " must be < 1 (a relative tolerance)");
+  return std::nullopt;
+}
+
+void applySolverOverrides(Settings& s, const SolverOverrides& o) {
+  if (o.accuracy) {
+    applyAccuracy(s, *o.accuracy);
+  } else if (o.integrator || o.rtol || o.atol) {
+    if (s.accuracy > 0) {  // what the scene's accuracy chose goes back to the defaults
+      const Settings d{};
+      s.integrator = d.integrator;
+      s.rtol = d.rtol;
+      s.atol = d.atol;
+      s.maxStep = d.maxStep;
+    }
+    s.accuracy = 0;
+    s.stiffSwitchRtol = 0;
+  }
+  if (o.integrator) s.integrator = *o.integrator;
+  if (o.rtol) {
+    s.rtol = *o.rtol;
+    if (!o.atol) s.atol = *o.rtol * 1e-2;
+  }
+  if (o.atol) s.atol = *o.atol;
+  if (o.step) s.step = *o.step;
 }
 
 double impliedAccuracy(const Settings& s) {

@@ -7,7 +7,9 @@
 // rtol 1e-10): the largest relative error of the metrics below stays under the accuracy asked for.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim/drop/case.hpp"
@@ -102,6 +104,24 @@ std::string undecidedPeaks(double asked, double ran, const CaseMetrics& last);
 // the accuracy asked for, A', the reasons so far, and the cost of every run.
 void markRerun(CaseMetrics& again, const CaseMetrics& before, double asked, double ran, double rerun);
 void applyAccuracy(Settings& s, double accuracy);
+
+// Solver settings given over a scene's [solver], by a study's or a calibration's [solver] table or on
+// simulate's command line (--integrator, --rtol, --atol, --step, --accuracy): one rule for the three, the
+// one a scene's own [solver] follows, so that a written scene (best.toml) that says them runs the same.
+//  - accuracy chooses integrator, rtol, atol and max_step (applyAccuracy): none of the first three with it;
+//  - an integrator, rtol or atol over a scene's accuracy replaces it: what the accuracy chose goes back
+//    to the defaults (as if the scene's [solver] had not said it), then the given values apply;
+//  - rtol (< 1) sets atol = rtol / 100 unless atol is given; step sets the fixed (first trial) step.
+struct SolverOverrides {
+  std::optional<IntegratorKind> integrator{};
+  std::optional<double> rtol{}, atol{}, step{}, accuracy{};  // [-], [m, m/s, rad/s], [s], [-] (each > 0: the readers check)
+  bool empty() const { return !integrator && !rtol && !atol && !step && !accuracy; }
+};
+// The first override that breaks a rule: its key (as 'prefix' + the [solver] key: "rtol", "--rtol") and
+// the rule; nothing where they all hold.
+std::optional<std::pair<std::string, std::string>> solverOverridesProblem(const SolverOverrides& o,
+                                                                         const std::string& prefix = "");
+void applySolverOverrides(Settings& s, const SolverOverrides& o);
 // The relative accuracy of the metrics that solver settings give, by the same calibration read backwards:
 // 'accuracy' if the settings came from one, dopri5 at rtol r about r, ros34pw2 at rtol r <= kRosRtolMax
 // about 6 r; NaN for the integrators the calibration does not cover (ros2, rk4, euler) or tolerances

@@ -155,38 +155,37 @@ std::string writtenSceneText(const std::string& source, const std::string& file,
          toTomlString(doc);
 }
 
-void applySolverTable(const toml::table* t, const std::string& file, Scene& scene, const std::string& sceneFile,
-                      const std::string& sceneDir) {
+void applySolverTable(const toml::table* t, const std::string& file, Scene& scene) {
   if (!t) return;
   TomlReader r(*t, file, "solver");
   r.allowOnly({"integrator", "rtol", "atol", "step", "accuracy"});
-  toml::table& sceneSolver = *scene.doc.insert("solver", toml::table{}).first->second.as_table();
-  if (r.has("accuracy")) {  // the relative accuracy of the metrics: it chooses integrator and tolerances
-    const double a = r.positive("accuracy");
-    if (const std::string rule = accuracyRule(a); !rule.empty()) r.fail("accuracy", "value " + fmt(a) + " " + rule);
-    for (const char* k : {"integrator", "rtol", "atol"})
-      if (r.has(k)) r.fail(k, std::string("accuracy chooses integrator, rtol and atol: give either accuracy or ") + k);
-    for (const char* k : {"integrator", "rtol", "atol", "max_step"}) sceneSolver.erase(k);
-    sceneSolver.insert_or_assign("accuracy", a);
-  } else if (r.has("integrator") || r.has("rtol") || r.has("atol")) {
-    sceneSolver.erase("accuracy");  // the study's own integrator settings replace the scene's accuracy
-  }
+  SolverOverrides o;
   if (r.has("integrator")) {
     const std::string name = r.string("integrator");
     IntegratorKind kind;
     if (!integratorFromName(name, kind)) r.fail("integrator", "value '" + name + "' must be one of " + integratorNames());
-    sceneSolver.insert_or_assign("integrator", name);
+    o.integrator = kind;
   }
-  if (r.has("rtol")) {
-    const double rtol = r.positive("rtol");
-    sceneSolver.insert_or_assign("rtol", rtol);
-    if (!r.has("atol")) sceneSolver.insert_or_assign("atol", rtol * 1e-2);
+  for (const auto& [key, value] : {std::pair<const char*, std::optional<double>*>{"rtol", &o.rtol}, {"atol", &o.atol},
+                                   {"step", &o.step}, {"accuracy", &o.accuracy}})
+    if (r.has(key)) *value = r.positive(key);
+  if (const auto problem = solverOverridesProblem(o)) r.fail(problem->first, problem->second);
+  applySolverOverrides(scene.model.settings, o);
+  // The same keys in the scene's own [solver], for the scenes written from it (best.toml, calibrated.toml).
+  toml::table& sceneSolver = *scene.doc.insert("solver", toml::table{}).first->second.as_table();
+  if (o.accuracy) {
+    for (const char* k : {"integrator", "rtol", "atol", "max_step"}) sceneSolver.erase(k);
+    sceneSolver.insert_or_assign("accuracy", *o.accuracy);
+  } else if (o.integrator || o.rtol || o.atol) {
+    sceneSolver.erase("accuracy");  // the study's own integrator settings replace the scene's accuracy
   }
-  if (r.has("atol")) sceneSolver.insert_or_assign("atol", r.positive("atol"));
-  if (r.has("step")) sceneSolver.insert_or_assign("step", r.positive("step"));
-  std::string text = std::move(scene.text);  // the file it was read from: best.toml keeps its layout
-  scene = buildScene(scene.doc, sceneFile, sceneDir);
-  scene.text = std::move(text);
+  if (o.integrator) sceneSolver.insert_or_assign("integrator", r.string("integrator"));
+  if (o.rtol) {
+    sceneSolver.insert_or_assign("rtol", *o.rtol);
+    if (!o.atol) sceneSolver.insert_or_assign("atol", *o.rtol * 1e-2);
+  }
+  if (o.atol) sceneSolver.insert_or_assign("atol", *o.atol);
+  if (o.step) sceneSolver.insert_or_assign("step", *o.step);
 }
 
 }  // namespace lg

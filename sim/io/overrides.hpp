@@ -29,11 +29,11 @@ Scene applyOverrides(const Scene& scene, const std::vector<ParameterOverride>& s
 void relocateTablePaths(toml::table& doc, const std::string& sceneDir, const std::string& outDir);
 
 // The [solver] table 't' of a study or calibration file (integrator, rtol, atol = rtol/100 unless given,
-// step; or accuracy, which chooses integrator and tolerances; absent: nothing) written into the scene's
-// own [solver], and the scene rebuilt with it: every design and the written scenes (best.toml,
-// calibrated.toml) run with those settings. Errors name 'file'.
-void applySolverTable(const toml::table* t, const std::string& file, Scene& scene, const std::string& sceneFile,
-                      const std::string& sceneDir);
+// step; or accuracy, which chooses integrator and tolerances; absent: nothing) applied to the scene's
+// settings by the one rule of solver overrides (applySolverOverrides, sim/drop/accuracy.hpp), and the same
+// keys written into the scene document's [solver], so that the written scenes (best.toml,
+// calibrated.toml) run with those settings too. Errors name 'file'.
+void applySolverTable(const toml::table* t, const std::string& file, Scene& scene);
 
 // The text of a written scene holding 'doc': the scene file's own text 'source' with only the changed
 // values replaced (sim/io/toml_rewrite.hpp), so that a diff against the scene shows the change alone;

@@ -256,6 +256,69 @@ TEST_CASE("the scene key solver.accuracy chooses the solver, and a bad value or 
   CHECK(std::filesystem::exists((dir / "c") + "/limit.csv"));
 }
 
+TEST_CASE("solver overrides: one rule, and a scene overridden runs as the scene that says the same in its [solver]",
+          "[accuracy][solver]") {
+  // The seed gear at [solver] accuracy = 1e-3, and the same gear whose [solver] says what is given over it.
+  toml::table doc = lgtest::shippedDoc("data/seed_gear.toml");
+  toml::table& solver = *doc["solver"].as_table();
+  for (const char* k : {"integrator", "rtol", "atol"}) solver.erase(k);
+  solver.insert_or_assign("accuracy", 1e-3);
+  const lg::Scene accurate = lgtest::build(doc);
+  REQUIRE(accurate.model.settings.accuracy == 1e-3);
+  auto sceneSaying = [&](const std::string& solverKeys) {
+    toml::table d = lgtest::shippedDoc("data/seed_gear.toml");
+    d.erase("solver");
+    const toml::table s = toml::parse("[solver]\n" + solverKeys);
+    d.insert("solver", *s["solver"].as_table());
+    return lgtest::build(d).model.settings;
+  };
+  auto same = [](const lg::Settings& a, const lg::Settings& b) {
+    CHECK(a.integrator == b.integrator);
+    CHECK(a.rtol == b.rtol);
+    CHECK(a.atol == b.atol);
+    CHECK(a.step == b.step);
+    CHECK(a.maxStep == b.maxStep);
+    CHECK(a.accuracy == b.accuracy);
+    CHECK(a.stiffSwitchRtol == b.stiffSwitchRtol);
+  };
+  SECTION("rtol over an accuracy: the accuracy's choices back to the defaults, atol = rtol / 100") {
+    lg::Settings s = accurate.model.settings;
+    lg::applySolverOverrides(s, lg::SolverOverrides{.rtol = 1e-5});
+    char atol[40];  // rtol / 100 as computed, 1.0000000000000001e-07: what a written scene's [solver] says
+    std::snprintf(atol, sizeof atol, "%.17g", 1e-5 * 1e-2);
+    same(s, sceneSaying("rtol = 1e-5\natol = " + std::string(atol) + "\n"));
+    CHECK(s.integrator == lg::IntegratorKind::DormandPrince);
+    CHECK(s.maxStep == lg::Settings{}.maxStep);
+  }
+  SECTION("an integrator over an accuracy") {
+    lg::Settings s = accurate.model.settings;
+    lg::applySolverOverrides(s, lg::SolverOverrides{.integrator = lg::IntegratorKind::Ros34pw2, .step = 2e-5});
+    same(s, sceneSaying("integrator = \"ros34pw2\"\nstep = 2e-5\n"));
+  }
+  SECTION("an accuracy over explicit settings, and a step that leaves the accuracy alone") {
+    lg::Settings s = lgtest::build(lgtest::shippedDoc("data/seed_gear.toml")).model.settings;
+    lg::applySolverOverrides(s, lg::SolverOverrides{.accuracy = 1e-2});
+    same(s, sceneSaying("accuracy = 1e-2\n"));
+    lg::Settings t = accurate.model.settings;
+    lg::applySolverOverrides(t, lg::SolverOverrides{.step = 3e-5});
+    same(t, sceneSaying("accuracy = 1e-3\nstep = 3e-5\n"));
+  }
+  SECTION("the rules, named as a [solver] table or as flags") {
+    using P = std::optional<std::pair<std::string, std::string>>;
+    CHECK(lg::solverOverridesProblem(lg::SolverOverrides{.rtol = 1e-5, .accuracy = 1e-3}) ==
+          P({"rtol", "accuracy chooses integrator, rtol and atol: give either accuracy or rtol"}));
+    CHECK(lg::solverOverridesProblem(lg::SolverOverrides{.integrator = lg::IntegratorKind::Ros2, .accuracy = 1e-3}, "--") ==
+          P({"--integrator", "--accuracy chooses integrator, rtol and atol: give either --accuracy or --integrator"}));
+    CHECK(lg::solverOverridesProblem(lg::SolverOverrides{.rtol = 1.5}) ==
+          P({"rtol", "value 1.5 must be < 1 (a relative tolerance)"}));
+    const auto range = lg::solverOverridesProblem(lg::SolverOverrides{.accuracy = 0.5}, "--");
+    REQUIRE(range);
+    CHECK(range->first == "--accuracy");
+    CHECK(range->second == "value 0.5 " + lg::accuracyRule(0.5));
+    CHECK_FALSE(lg::solverOverridesProblem(lg::SolverOverrides{.rtol = 1e-4, .atol = 1e-9, .step = 1e-5}));
+  }
+}
+
 TEST_CASE("work-precision: every integrator's error falls as its tolerance tightens", "[accuracy][work-precision]") {
   const lg::Scene sc = lg::loadScene(lgtest::sourcePath("data/seed_gear.toml"));
   lg::WorkPrecisionOptions opt;
