@@ -27,27 +27,28 @@
 
 #include "sim/core/brent.hpp"
 #include "sim/drop/case.hpp"
+#include "sim/drop/channels.hpp"
 #include "sim/drop/figures.hpp"
+#include "sim/drop/peak_refiner.hpp"
 #include "sim/engine/engine.hpp"
 
 namespace lg {
 
 template <class S> class DropObserver {
  public:
-  // The channels the observer reads at one time.
-  struct Channels {
-    S t = S(0), Py = S(0), PyDot = S(0), h = S(0), hdot = S(0), Px = S(0);
-    std::vector<S> s, sdot, Pa;        // per strut
-    std::vector<S> delta, ddelta, Pt, dPt, px;  // per tyre (px: P_x, 0 without a longitudinal force)
-    Channels(size_t struts = 0, size_t tyres = 0)
-        : s(struts), sdot(struts), Pa(struts), delta(tyres), ddelta(tyres), Pt(tyres), dPt(tyres), px(tyres) {}
-  };
+  using Channels = DropChannels<S>;
+
+  // (The peak refiner reads channels through this observer: it stays where it was built.)
+  DropObserver(const DropObserver&) = delete;
+  DropObserver& operator=(const DropObserver&) = delete;
 
   // 'record' (double only) receives the time histories when opt.record is set.
   DropObserver(const Scene& sc, const Model<S>& m, const DropCase& c, const S& sinkSpeed, const S& liftRatio,
                const CaseOptions& opt, CaseResult* record)
       : sc_(sc), m_(m), case_(c), V_(touchdownSpeed(sinkSpeed, liftRatio, c.dropHeight, sc.gravity)), L_(liftRatio), opt_(opt),
-        rec_(record), wo_(m) {
+        rec_(record), wo_(m),
+        refiner_([this](const S& t, const DenseOutput<S>& d, Channels& c) { channelsAt(t, d, c); }, sc.roles.struts.size(),
+                 sc.roles.tyres.size()) {
     airframe_ = sc.roles.airframe.empty() ? -1 : m.bodyIndex(sc.roles.airframe);
     for (int ci : sc.roles.stops) {
       stopRows_.push_back(m.rowOffset[ci]);
@@ -80,6 +81,7 @@ template <class S> class DropObserver {
     }
     const size_t ns = strutOut_.size(), nt = tyreOut_.size();
     prev_ = end_ = mid_ = after_ = scratch_ = Channels(ns, nt);
+    refiner_.setStep(prev_, mid_, end_);  // (the members: each step's channels are read into them)
     workPa_.assign(ns, S(0));
     workPaAtMax_.assign(ns, S(0));
     F_.struts.resize(ns);
@@ -155,13 +157,13 @@ template <class S> class DropObserver {
   void watchLoad(const S& t0, const S& t1, const DenseOutput<S>& d) {
     workPy_ += simpson(prev_.Py * prev_.hdot, mid_.Py * mid_.hdot, end_.Py * end_.hdot, t1 - t0);
     double tPy = -1;
-    const bool newPeak = refine(prev_.PyDot, end_.PyDot, t0, t1, d, [](const Channels& c) { return c.Py; }, F_.peak_load,
+    const bool newPeak = refiner_.refine(prev_.PyDot, end_.PyDot, t0, t1, d, [](const Channels& c) { return c.Py; }, F_.peak_load,
                                 &F_.t_peak, end_.Py, t1, &tPy, /*everyPeak=*/true);
     if (newPeak) F_.peakCurvature = 0;  // (set again below where the new peak is a smooth interior maximum)
     bool moved = newPeak;
     if (newPeak && tPy >= 0) {
       correctPeakTime(tPy, t0, t1, d);
-      lastRefinedTime_ = value(F_.t_peak);  // (this hump's time: the peak's own, polished)
+      refiner_.lastTime = value(F_.t_peak);  // (this hump's time: the peak's own, polished)
     } else if (!newPeak && value(F_.t_peak) == value(t0) && value(prev_.PyDot) > 0 && value(end_.PyDot) < 0) {
       moved = true;
       // The maximum is this step's start: the last step ended rising, and no value inside this one is
@@ -171,7 +173,7 @@ template <class S> class DropObserver {
       // derivatives) are the top's, not the step's; the value stays the larger one of the step's end.
       correctPeakTime(value(t0), t0, t1, d, /*fromSearch=*/false);
     }
-    if (value(prev_.PyDot) > 0 && value(end_.PyDot) < 0) F_.loadHumps.push_back({lastRefinedTime_, lastRefinedValue_});
+    if (value(prev_.PyDot) > 0 && value(end_.PyDot) < 0) F_.loadHumps.push_back({refiner_.lastTime, refiner_.lastValue});
     if (drag_ && moved) {  // the drag load at the time of the largest vertical load (spin-up declared)
       const S t = value(F_.t_peak) < value(t0) ? t0 : value(F_.t_peak) > value(t1) ? t1 : F_.t_peak;
       channelsAt(t, d, scratch_);
@@ -183,20 +185,20 @@ template <class S> class DropObserver {
     for (size_t k = 0; k < F_.tyres.size(); ++k) {
       // P_t grows with delta: both peak where delta' goes from + to -.
       auto& T = F_.tyres[k];
-      refine(prev_.ddelta[k], end_.ddelta[k], t0, t1, d, [k](const Channels& c) { return c.delta[k]; }, T.deflection_max,
+      refiner_.refine(prev_.ddelta[k], end_.ddelta[k], t0, t1, d, [k](const Channels& c) { return c.delta[k]; }, T.deflection_max,
              nullptr, end_.delta[k], t1);
       // (a damped tyre's load peaks before its deflection: its own rate)
-      refine(dampedTyre_[k] ? prev_.dPt[k] : prev_.ddelta[k], dampedTyre_[k] ? end_.dPt[k] : end_.ddelta[k], t0, t1, d,
+      refiner_.refine(dampedTyre_[k] ? prev_.dPt[k] : prev_.ddelta[k], dampedTyre_[k] ? end_.dPt[k] : end_.ddelta[k], t0, t1, d,
              [k](const Channels& c) { return c.Pt[k]; }, T.load_max, nullptr, end_.Pt[k], t1);
       // The drag load (no rate channel): searched on the dense output where the step may hold its maximum.
       if (dragTyre_[k])
-        refineWithoutRate(prev_.px[k], mid_.px[k], end_.px[k], t0, t1, d, [k](const Channels& c) { return c.px[k]; },
+        refiner_.refineWithoutRate(prev_.px[k], mid_.px[k], end_.px[k], t0, t1, d, [k](const Channels& c) { return c.px[k]; },
                           T.drag_max);
     }
     if (drag_) {
-      refineWithoutRate(prev_.Px, mid_.Px, end_.Px, t0, t1, d, [](const Channels& c) { return c.Px; }, F_.drag_peak, false,
+      refiner_.refineWithoutRate(prev_.Px, mid_.Px, end_.Px, t0, t1, d, [](const Channels& c) { return c.Px; }, F_.drag_peak, false,
                         &F_.t_drag_peak);
-      refineWithoutRate(-prev_.Px, -mid_.Px, -end_.Px, t0, t1, d, [](const Channels& c) { return -c.Px; }, F_.springback_peak,
+      refiner_.refineWithoutRate(-prev_.Px, -mid_.Px, -end_.Px, t0, t1, d, [](const Channels& c) { return -c.Px; }, F_.springback_peak,
                         false, &F_.t_springback);
     }
   }
@@ -207,7 +209,7 @@ template <class S> class DropObserver {
       auto& St = F_.struts[k];
       workPa_[k] += simpson(prev_.Pa[k] * prev_.sdot[k], mid_.Pa[k] * mid_.sdot[k], end_.Pa[k] * end_.sdot[k], t1 - t0);
       double tS = -1;
-      if (refine(prev_.sdot[k], end_.sdot[k], t0, t1, d, [k](const Channels& c) { return c.s[k]; }, St.stroke_max, nullptr,
+      if (refiner_.refine(prev_.sdot[k], end_.sdot[k], t0, t1, d, [k](const Channels& c) { return c.s[k]; }, St.stroke_max, nullptr,
                  end_.s[k], t1, &tS)) {
         ReactionsNeeded needed(reaction_, true);
         workPaAtMax_[k] = workPa_[k] - (tS >= 0 ? partialStrut(k, S(tS), t1, d) : S(0));
@@ -215,7 +217,7 @@ template <class S> class DropObserver {
       }
       // Peak P_a (no rate channel): searched on the dense output where the step may hold it.
       ReactionsNeeded needed(reaction_, true);
-      if (refineWithoutRate(prev_.Pa[k], mid_.Pa[k], end_.Pa[k], t0, t1, d, [k](const Channels& c) { return c.Pa[k]; },
+      if (refiner_.refineWithoutRate(prev_.Pa[k], mid_.Pa[k], end_.Pa[k], t0, t1, d, [k](const Channels& c) { return c.Pa[k]; },
                             St.force_max))
         F_.tStrutForceMax = value(t1);
       if (regularised_[k]) watchStick(k, value(t1), value(end_.sdot[k]));
@@ -227,7 +229,7 @@ template <class S> class DropObserver {
   void watchTravel(const S& t0, const S& t1, const DenseOutput<S>& d) {
     double tH = -1;
     if (value(prev_.hdot) > 0 && value(end_.hdot) <= 0) F_.compression_ended = true;
-    if (refine(prev_.hdot, end_.hdot, t0, t1, d, [](const Channels& c) { return c.h; }, F_.h_max, nullptr, end_.h, t1, &tH)) {
+    if (refiner_.refine(prev_.hdot, end_.hdot, t0, t1, d, [](const Channels& c) { return c.h; }, F_.h_max, nullptr, end_.h, t1, &tH)) {
       workPyAtMax_ = workPy_ - (tH >= 0 ? partialGear(S(tH), t1, d) : S(0));
       tHmax_ = tH < 0 ? value(t1) : tH;
       F_.tHMax = tHmax_;
@@ -236,7 +238,7 @@ template <class S> class DropObserver {
     if (value(t1) > tHmax_) {
       const S ta = maxByValue(t0, S(tHmax_));
       const bool whole = value(ta) == value(t0);
-      refineWithoutRate(whole ? S(-prev_.hdot) : S(-end_.hdot), S(-mid_.hdot), S(-end_.hdot), ta, t1, d,
+      refiner_.refineWithoutRate(whole ? S(-prev_.hdot) : S(-end_.hdot), S(-mid_.hdot), S(-end_.hdot), ta, t1, d,
                         [](const Channels& c) { return S(-c.hdot); }, reboundV_, !whole);
     }
   }
@@ -333,15 +335,6 @@ template <class S> class DropObserver {
 
  private:
   static constexpr bool kDouble = std::is_same_v<S, double>;
-  // The extrema searches' tolerance on t (brentMinimise): sqrt(eps) |t| + 1e-13 max(1, t1), where values
-  // are equal to round-off.
-  static inline const double kSearchRel = std::sqrt(2.2e-16);
-  static double searchAbs(const S& t1) { return 1e-13 * std::max(1.0, value(t1)); }
-  // Whether a smooth channel sampled at three points of a step (a, m, b) may reach 'best' inside it: it
-  // rises above its largest sample by less than its variation over the step.
-  static bool canReach(double a, double m, double b, const S& best) {
-    return !(std::max({a, m, b}) + std::abs(a - m) + std::abs(m - b) < value(best));
-  }
   // Whether channels read on the dense output need the stuck friction locks' reactions (a full evaluation
   // each): set for a scope, restored at its end.
   using ReactionsNeeded = ScopedFlag;
@@ -480,7 +473,7 @@ template <class S> class DropObserver {
     const S down2 = scratch_.Py;
     S mid;
     if constexpr (kDouble) {
-      if (fromSearch) mid = lastRefinedValue_;  // (P_y at t, from the search)
+      if (fromSearch) mid = refiner_.lastValue;  // (P_y at t, from the search)
     }
     if (!kDouble || !fromSearch) {
       channelsAt(S(t), d, scratch_);
@@ -495,62 +488,6 @@ template <class S> class DropObserver {
     if (!fromSearch && !(value(step) <= 0 && t - value(step) <= value(t1))) return;
     F_.peakCurvature = curvature;
     F_.t_peak = !fromSearch || std::abs(value(step)) <= dt ? S(t) - step : S(t) - (step - S(value(step)));
-  }
-
-  // A running maximum of a channel without a rate: from its values at the step's start, middle and
-  // end, the step is searched (Brent's search on values) where its largest sample is inside, or at the
-  // start if the channel rises there (a maximum just after the start, or the one carried over from the
-  // previous step, lies in [t0, t_mid]; one that falls at the start has its maximum there); a largest
-  // value at the end is taken there, and the next step looks further.
-  // 'endOnly' (a step entered part-way): only the middle and end samples count.
-  // Returns true if the maximum moved.
-  template <class F>
-  bool refineWithoutRate(const S& v0, const S& vm, const S& v1, const S& t0, const S& t1, const DenseOutput<S>& d, F f,
-                         S& best, bool endOnly = false, S* tBest = nullptr) {
-    const double a = value(v0), m = value(vm), b = value(v1);
-    // A smooth channel sampled at three points rises above its largest sample by less than its variation
-    // over the step: a step that cannot reach the running maximum is not searched (a falling P_a after
-    // its peak, every step).
-    if (!canReach(a, m, b, best)) return false;
-    // Samples equal to round-off (a stuck strut's constant P_a): a search would only sort round-off, in
-    // some forty evaluations (each a full one for P_a). The largest sample holds the maximum.
-    const double hi = std::max({a, m, b}), lo = std::min({a, m, b});
-    if (hi - lo <= 1e-14 * std::max(std::abs(hi), std::abs(lo))) {
-      if (!(hi > value(best))) return false;
-      const int at = b == hi ? 2 : (m == hi ? 1 : 0);  // (the latest of the largest)
-      best = at == 2 ? v1 : (at == 1 ? vm : v0);
-      if (tBest) *tBest = at == 2 ? t1 : (at == 1 ? S(0.5) * (t0 + t1) : t0);
-      return true;
-    }
-    const bool atStart = !endOnly && a >= m && a >= b, atMiddle = m > b && (endOnly || m > a);
-    if (atStart) {
-      // The largest sample at the start: the maximum is inside [t0, t_mid] only if the channel rises at t0
-      // (a forward difference on the dense output), else the start holds it. (A search that converges
-      // onto the step's start takes some thirty evaluations of the channel: a stuck strut's P_a.)
-      const double dt = 1e-3 * (value(t1) - value(t0));
-      channelsAt(S(value(t0) + dt), d, scratch_);
-      if (!(value(f(scratch_)) > a)) {
-        if (!(a > value(best))) return false;
-        best = v0;
-        if (tBest) *tBest = t0;
-        return true;
-      }
-    }
-    if (atStart || atMiddle) {
-      const S tb = atStart ? S(0.5) * (t0 + t1) : t1;
-      return refine(S(1.0), S(-1.0), t0, tb, d, f, best, tBest, atStart ? v0 : vm, atStart ? t0 : S(0.5) * (t0 + t1));
-    }
-    if (b > value(best)) {
-      // The largest sample at the end: the maximum is inside [t_mid, t1] if the channel already falls at
-      // t1 (a backward difference on the dense output), else at t1 or beyond.
-      const double dt = 1e-3 * (value(t1) - value(t0));
-      channelsAt(S(value(t1) - dt), d, scratch_);
-      if (value(f(scratch_)) > b) return refine(S(1.0), S(-1.0), S(0.5) * (t0 + t1), t1, d, f, best, tBest, v1, t1);
-      best = v1;
-      if (tBest) *tBest = t1;
-      return true;
-    }
-    return false;
   }
 
   // Friction: a strut sticks while |s'| stays within 10 eps after it has moved; intervals longer than a
@@ -675,64 +612,6 @@ template <class S> class DropObserver {
     channelsAt(t1, d, a);
     return simpson(fa, fm, a.Pa[k] * a.sdot[k], t1 - t);
   }
-  // Updates the running maximum 'best' of a channel. If its rate goes from + to - inside the step, the
-  // maximum is located on the dense output (Brent's search on values). Returns true if the maximum
-  // moved; 'tFound' (optional) receives the time of an interior maximum (-1 if the end holds it).
-  // 'everyPeak': search every peak, also one below 'best' (P_y's humps, lastRefined*).
-  template <class F>
-  bool refine(const S& rate0, const S& rate1, const S& t0, const S& t1, const DenseOutput<S>& d, F f, S& best, S* tBest,
-              const S& endValue, const S& tEnd, double* tFound = nullptr, bool everyPeak = false) {
-    S v = endValue, tv = tEnd;
-    double interior = -1;
-    // Rates of round-off size (a stuck strut's s', ~1e-17 m/s, changes sign at random): a maximum inside
-    // could exceed the ends by at most |rate| h / 2, below the value's round-off: no search.
-    const double reach = std::max(std::abs(value(rate0)), std::abs(value(rate1))) * (value(t1) - value(t0));
-    // Inside the step, its start, middle and end are known: a search that cannot reach the running
-    // maximum (see refineWithoutRate) is not made (a stroke at rest, its rate round-off).
-    const bool inStep = value(t0) >= value(prev_.t) && value(t1) <= value(end_.t);
-    double f0 = 0, fm = 0, f1 = 0;
-    auto reachable = [&] {  // (read only where the rates bracket a peak)
-      if (!inStep) return true;
-      f0 = value(f(prev_)), fm = value(f(mid_)), f1 = value(f(end_));
-      return everyPeak || canReach(f0, fm, f1, best);
-    };
-    if (value(rate0) > 0 && value(rate1) < 0 && reach > 1e-14 * std::abs(value(endValue)) && reachable()) {
-      auto at = [&](double t) {
-        channelsAt(S(t), d, scratch_);
-        return value(f(scratch_));
-      };
-      // Brent's minimisation of -f (golden sections and parabolic steps, Forsythe, Malcolm & Moler's
-      // fmin; tolerance sqrt(eps) |t| + 1e-13, where the values are equal to round-off). Inside the step
-      // it starts from the parabola through the step's start, middle and end (known: no evaluation).
-      double fx = 0;
-      BrentStart start;
-      if (inStep) start = {3, {value(prev_.t), value(mid_.t), value(end_.t)}, {-f0, -fm, -f1}};
-      const double tm = brentMinimise([&](double t) { return -at(t); }, value(t0), value(t1), kSearchRel, searchAbs(t1),
-                                      fx, [](double) { return false; }, 100, start);
-      S vm;
-      if constexpr (kDouble) {
-        vm = -fx;  // (the value at tm, from the same evaluation)
-      } else {
-        channelsAt(S(tm), d, scratch_);  // (its derivatives)
-        vm = f(scratch_);
-      }
-      lastRefinedTime_ = tm;
-      lastRefinedValue_ = value(vm);
-      if (value(vm) > value(v)) {
-        v = vm;
-        tv = S(tm);
-        interior = tm;
-      }
-    }
-    if (value(v) > value(best)) {
-      best = v;
-      if (tBest) *tBest = tv;
-      if (tFound) *tFound = interior;
-      return true;
-    }
-    return false;
-  }
-
   const Scene& sc_;
   const Model<S>& m_;
   const DropCase& case_;
@@ -758,12 +637,12 @@ template <class S> class DropObserver {
   int timeSlot_ = -1;
   bool reaction_ = true;  // see ReactionsNeeded
   Channels prev_, end_, mid_, after_, scratch_;
+  PeakRefiner<S> refiner_;  // every running maximum over the steps
   CaseFigures<S> F_;
   double e0_ = 0, ek0_ = 0, uExt0_ = 0;
   S workPy_ = S(0), workPyAtMax_ = S(0), reboundV_ = S(0);
   std::vector<S> workPa_, workPaAtMax_;
   double tHmax_ = 0;
-  double lastRefinedTime_ = 0, lastRefinedValue_ = 0;
   double epsFriction_ = 0;
   double bottomSpeed_ = -1;
   std::vector<double> stickStart_;
