@@ -6,7 +6,9 @@
 // (dissipationChannels(), dampingTerms(), eventCount()): what a scene does not declare costs nothing.
 #pragma once
 
+#include <concepts>
 #include <string>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -21,9 +23,39 @@
 
 namespace lg {
 
+// What the engine asks of every force element E in the scalar S, its equations in its own header:
+//   apply(K, W, dissipation)  its forces and moments on the bodies (into W) and the rate [W] of each of its
+//                             dissipation channels (dissipation[0 .. channels))
+//   stored(K)                 the energy [J] it stores (springs, gas, the potential of gravity and lift)
+//   events(K, out)            its event functions (stops engaging, damping letting go, slip reversing)
+//   damping(K, terms)         its damping (and stiffness) terms for the linearly implicit integrators
+//   outputs(K, out), outputNames()  its named outputs, columns of the time histories
+//   parameter(key)            the place of a numeric design parameter ("f1", "K"), null for none
+//   cast<double>()            the same element in another scalar (a model with derivatives)
+// A type missing one does not compile, and the message names the requirement it misses.
+template <class E, class S>
+concept ForceElementType = requires(E& e, const E& ce, const Kins<S>& K, const Wrenches<S>& W, S* out,
+                                    DampingTerm<S>* terms, const std::string& key) {
+  ce.apply(K, W, out);
+  { ce.stored(K) } -> std::convertible_to<S>;
+  ce.events(K, out);
+  ce.damping(K, terms);
+  ce.outputs(K, out);
+  { ce.outputNames() } -> std::convertible_to<std::vector<std::string>>;
+  { e.parameter(key) } -> std::same_as<S*>;
+  ce.template cast<double>();
+};
+
 template <class S>
 using ForceType = std::variant<Gravity<S>, ConstantForce<S>, ShockAbsorber<S>, Tyre<S>, SpringDamper<S>,
                                Bushing<S>, BearingFriction<S>, StopPad<S>>;
+
+// Every alternative of the closed set is a force element, in both scalars the engine runs.
+template <class S, class V> struct AllForceElementTypes;
+template <class S, class... E>
+struct AllForceElementTypes<S, std::variant<E...>> : std::bool_constant<(ForceElementType<E, S> && ...)> {};
+static_assert(AllForceElementTypes<double, ForceType<double>>::value,
+              "an alternative of ForceType misses a member the engine needs (see ForceElementType)");
 
 template <class S> struct ForceElement {
   std::string name;
