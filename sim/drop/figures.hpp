@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sim/core/math.hpp"  // value()
+#include "sim/drop/case.hpp"   // CaseMetrics, Scene, DropCase
 
 namespace lg {
 
@@ -55,7 +56,7 @@ template <class S> std::pair<double, double> secondLoadHump(const CaseFigures<S>
   return best;
 }
 
-// The metrics (values) of a run's figures, for case c of the scene (defined in drop_test.cpp).
+// The metrics (values) of a run's figures, for case c of the scene (defined in sim/drop/run.cpp).
 CaseMetrics caseMetrics(const CaseFigures<double>& F, const Scene& scene, const DropCase& c);
 
 // The value parts of a run's figures.

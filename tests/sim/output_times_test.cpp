@@ -1,4 +1,4 @@
-// Rows at listed output times (CaseOptions::outputTimes, sim/drop/run.hpp): a measurement's samples
+// Rows at listed output times (CaseOptions::outputTimes, sim/drop/case.hpp): a measurement's samples
 // taken on the integrator's dense output, the run itself unchanged.
 #include "scene_support.hpp"  // sim headers, then Catch (see there)
 
