@@ -6,6 +6,7 @@
 #include <cmath>
 #include <set>
 
+#include "sim/io/drop_case.hpp"  // declaresSpinUp, kMaxForwardSpeed
 #include "sim/io/toml_reader.hpp"
 
 namespace lg {
@@ -76,13 +77,13 @@ Certification parseCertification(const toml::table& t, const std::string& file, 
   if (scene.roles.tyres.empty() && r.has("tyre_limit")) r.fail("tyre_limit", "the scene has no tyre");
   c.duration = r.duration("duration", 0.8);
   // The forward speed of the drops: declared, or the scene's own cases' (the spin-up they model).
-  bool spinUp = false;
-  for (int f : scene.roles.tyres) spinUp = spinUp || std::get<Tyre<double>>(scene.model.forces[f].type).longitudinal;
+  const bool spinUp = declaresSpinUp(scene);
   if (r.has("forward_speed")) {
     c.forwardSpeed = r.nonNegative("forward_speed", 0.0);
     if (c.forwardSpeed > 0 && !spinUp)
       r.fail("forward_speed", "no tyre of this scene declares the longitudinal friction coefficient mu_x (wheel spin-up)");
-    if (c.forwardSpeed > 150) r.fail("forward_speed", "value " + fmt(c.forwardSpeed) + " m/s is not a landing speed (at most 150 m/s)");
+    if (c.forwardSpeed > kMaxForwardSpeed)
+      r.fail("forward_speed", "value " + fmt(c.forwardSpeed) + " m/s is not a landing speed (at most 150 m/s)");
     c.forwardSpeedSource = "declared in [certification]";
   } else {
     for (const auto& sc : scene.cases) c.forwardSpeed = std::max(c.forwardSpeed, sc.forwardSpeed);

@@ -8,7 +8,6 @@
 namespace lg {
 
 namespace {
-constexpr double kMaxForwardSpeed = 150;  // [m/s] beyond any landing speed
 const char* const kKeys[] = {"sink_speed", "drop_height", "lift_ratio", "duration", "forward_speed", "masses"};
 
 bool hasGravity(const Scene& scene) {
@@ -17,12 +16,13 @@ bool hasGravity(const Scene& scene) {
   return false;
 }
 
-bool spinUp(const Scene& scene) {
+}  // namespace
+
+bool declaresSpinUp(const Scene& scene) {
   for (int f : scene.roles.tyres)
     if (std::get<Tyre<double>>(scene.model.forces[f].type).longitudinal) return true;
   return false;
 }
-}  // namespace
 
 std::string dropCaseKey(const TomlReader& r) {
   for (const char* k : kKeys)
@@ -35,7 +35,6 @@ void readDropCase(const TomlReader& r, const Scene& scene, DropCase& c, bool fre
   if (height) c.dropHeight = r.nonNegative("drop_height", 0.0);
   if (r.has("sink_speed")) c.sinkSpeed = height ? r.nonNegative("sink_speed", 0.0) : r.number("sink_speed");
   else if (fresh && !height) c.sinkSpeed = r.number("sink_speed");  // (missing required number)
-  else if (fresh) c.sinkSpeed = 0;  // released at rest
   if (r.has("lift_ratio")) {
     c.liftRatio = r.nonNegative("lift_ratio", 0.0);
     if (const std::string rule = liftRatioRule(c.liftRatio); !rule.empty()) r.fail("lift_ratio", rule);
@@ -54,7 +53,7 @@ void readDropCase(const TomlReader& r, const Scene& scene, DropCase& c, bool fre
   c.duration = r.duration("duration", fresh || height ? 0.8 + fall : c.duration);
   if (r.has("forward_speed")) {
     c.forwardSpeed = r.nonNegative("forward_speed", 0.0);
-    if (!spinUp(scene)) r.fail("forward_speed", "no tyre of this scene declares the longitudinal friction coefficient mu_x");
+    if (!declaresSpinUp(scene)) r.fail("forward_speed", "no tyre of this scene declares the longitudinal friction coefficient mu_x");
     if (c.forwardSpeed > kMaxForwardSpeed)
       r.fail("forward_speed", "value " + fmt(c.forwardSpeed) + " m/s is not a landing speed (at most 150 m/s)");
   }

@@ -18,6 +18,13 @@
 
 namespace lg {
 
+// [m/s] The largest forward speed a drop may have (beyond any landing speed): a case's and the
+// certification matrix's alike.
+constexpr double kMaxForwardSpeed = 150;
+// Whether a tyre of the scene declares the longitudinal friction mu_x (wheel spin-up): a forward speed
+// needs one.
+bool declaresSpinUp(const Scene& scene);
+
 // The first of the keys above that the table sets, in the order above ("" if none): a table that sets
 // one declares a drop of its own.
 std::string dropCaseKey(const TomlReader& r);
